@@ -1,0 +1,288 @@
+#include "config.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <toml++/toml.hpp>
+
+namespace softflow {
+namespace {
+
+// Reads the keys of one table, remembering which ones were asked for so that
+// anything left over is reported as unknown.
+class TableReader {
+ public:
+  TableReader(const toml::table& root, std::string name) : name_(std::move(name)) {
+    if (auto* n = root.get(name_)) {
+      if (!n->is_table()) throw InputError("'" + name_ + "' must be a table ([" + name_ + "])");
+      table_ = n->as_table();
+    }
+  }
+
+  bool present() const { return table_ != nullptr; }
+
+  template <class T>
+  bool read(const char* key, T& out, bool required) {
+    seen_.insert(key);
+    const toml::node* n = table_ ? table_->get(key) : nullptr;
+    if (!n) {
+      if (required) throw InputError("missing key '" + full(key) + "'");
+      return false;
+    }
+    if constexpr (std::is_same_v<T, std::string>) {
+      if (!n->is_string()) throw InputError("'" + full(key) + "' must be a string");
+      out = n->as_string()->get();
+    } else if constexpr (std::is_integral_v<T>) {
+      if (!n->is_integer()) throw InputError("'" + full(key) + "' must be an integer");
+      out = static_cast<T>(n->as_integer()->get());
+    } else {
+      if (n->is_integer())
+        out = static_cast<T>(n->as_integer()->get());
+      else if (n->is_floating_point())
+        out = static_cast<T>(n->as_floating_point()->get());
+      else
+        throw InputError("'" + full(key) + "' must be a number");
+      if (!std::isfinite(double(out))) throw InputError("'" + full(key) + "' must be finite");
+    }
+    return true;
+  }
+
+  template <class T>
+  void positive(const char* key, T v) const {
+    if (!(v > 0)) throw InputError("'" + full(key) + "' must be positive (got " + str(v) + ")");
+  }
+  template <class T>
+  void non_negative(const char* key, T v) const {
+    if (v < 0) throw InputError("'" + full(key) + "' must not be negative (got " + str(v) + ")");
+  }
+
+  void finish() const {
+    if (!table_) return;
+    for (auto&& [k, v] : *table_) {
+      if (!seen_.count(std::string(k.str())))
+        throw InputError("unknown key '" + full(std::string(k.str())) + "'");
+    }
+  }
+
+  std::string full(const std::string& key) const { return name_ + "." + key; }
+
+ private:
+  template <class T>
+  static std::string str(T v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  }
+  std::string name_;
+  const toml::table* table_ = nullptr;
+  std::set<std::string> seen_;
+};
+
+// "grid.nx=64" -> sets root["grid"]["nx"] = 64 (value parsed as TOML; a bare
+// word that is not valid TOML is taken as a string).
+void apply_override(toml::table& root, const std::string& text) {
+  auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("override '" + text + "' is not of the form table.key=value");
+  std::string path = text.substr(0, eq), value = text.substr(eq + 1);
+  auto dot = path.find('.');
+  if (dot == std::string::npos || path.find('.', dot + 1) != std::string::npos)
+    throw InputError("override '" + text + "': the key must be table.key (one dot)");
+  std::string table = path.substr(0, dot), key = path.substr(dot + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    parsed = toml::table{{"v", value}};
+  }
+  if (!root.contains(table)) root.insert(table, toml::table{});
+  auto* t = root.get(table)->as_table();
+  if (!t) throw InputError("override '" + text + "': '" + table + "' is not a table");
+  t->insert_or_assign(key, *parsed.get("v"));
+}
+
+}  // namespace
+
+Real Config::end_time_resolved() const {
+  if (time.end_time >= 0) return time.end_time;
+  return time.end_strain / shear_rate();
+}
+
+Config parse_config(const std::string& text, const std::string& name,
+                    const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream s;
+    s << name << ": invalid TOML at line " << e.source().begin.line << ": " << e.description();
+    throw InputError(s.str());
+  }
+  for (const auto& o : overrides) apply_override(root, o);
+
+  const std::set<std::string> tables = {"grid", "fluid", "walls", "time",
+                                        "initial", "output", "parallel", "restart"};
+  for (auto&& [k, v] : root) {
+    if (!tables.count(std::string(k.str())))
+      throw InputError("unknown key '" + std::string(k.str()) + "' (tables: grid, fluid, walls, "
+                       "time, initial, output, parallel, restart)");
+  }
+
+  Config c;
+  c.case_name = name;
+  {
+    TableReader r(root, "grid");
+    r.read("nx", c.grid.nx, true);
+    r.read("ny", c.grid.ny, true);
+    r.read("nz", c.grid.nz, true);
+    r.read("lx", c.grid.lx, true);
+    r.read("ly", c.grid.ly, true);
+    r.read("lz", c.grid.lz, true);
+    r.positive("nx", c.grid.nx);
+    r.positive("ny", c.grid.ny);
+    r.positive("nz", c.grid.nz);
+    r.positive("lx", c.grid.lx);
+    r.positive("ly", c.grid.ly);
+    r.positive("lz", c.grid.lz);
+    r.finish();
+  }
+  {
+    TableReader r(root, "fluid");
+    r.read("rho", c.fluid.rho, true);
+    r.read("mu", c.fluid.mu, true);
+    r.positive("rho", c.fluid.rho);
+    r.positive("mu", c.fluid.mu);
+    r.finish();
+  }
+  {
+    TableReader r(root, "walls");
+    r.read("velocity", c.walls.velocity, true);
+    r.finish();
+  }
+  {
+    TableReader r(root, "time");
+    bool has_strain = r.read("end_strain", c.time.end_strain, false);
+    bool has_time = r.read("end_time", c.time.end_time, false);
+    if (has_strain == has_time)
+      throw InputError("give exactly one of 'time.end_strain' and 'time.end_time'");
+    if (has_strain) {
+      r.non_negative("end_strain", c.time.end_strain);
+      if (c.walls.velocity == 0)
+        throw InputError("'time.end_strain' needs a non-zero 'walls.velocity'; use 'time.end_time'");
+    }
+    if (has_time) r.non_negative("end_time", c.time.end_time);
+    r.read("cfl", c.time.cfl, false);
+    r.read("dt_max", c.time.dt_max, false);
+    r.read("max_steps", c.time.max_steps, false);
+    r.positive("cfl", c.time.cfl);
+    if (c.time.cfl > 1) throw InputError("'time.cfl' must be at most 1 (it scales the stability limits)");
+    r.positive("dt_max", c.time.dt_max);
+    r.non_negative("max_steps", c.time.max_steps);
+    r.finish();
+  }
+  {
+    TableReader r(root, "initial");
+    r.read("type", c.initial.type, false);
+    r.read("amplitude", c.initial.amplitude, false);
+    r.read("omega", c.initial.omega, false);
+    if (c.initial.type != "rest" && c.initial.type != "couette" && c.initial.type != "manufactured")
+      throw InputError("'initial.type' must be \"rest\", \"couette\" or \"manufactured\" (got \"" +
+                       c.initial.type + "\")");
+    r.finish();
+  }
+  {
+    TableReader r(root, "output");
+    r.read("dir", c.output.dir, false);
+    r.read("progress_every", c.output.progress_every, false);
+    r.read("series_every", c.output.series_every, false);
+    r.read("fields_every", c.output.fields_every, false);
+    r.read("checkpoint_every", c.output.checkpoint_every, false);
+    if (c.output.dir.empty()) throw InputError("'output.dir' must not be empty");
+    r.non_negative("progress_every", c.output.progress_every);
+    r.non_negative("series_every", c.output.series_every);
+    r.non_negative("fields_every", c.output.fields_every);
+    r.non_negative("checkpoint_every", c.output.checkpoint_every);
+    r.finish();
+  }
+  {
+    TableReader r(root, "parallel");
+    r.read("px", c.parallel.px, false);
+    r.read("pz", c.parallel.pz, false);
+    r.non_negative("px", c.parallel.px);
+    r.non_negative("pz", c.parallel.pz);
+    r.finish();
+  }
+  {
+    TableReader r(root, "restart");
+    r.read("file", c.restart, false);
+    r.finish();
+  }
+  std::ostringstream resolved;
+  resolved << root;
+  c.source_text = resolved.str();
+  return c;
+}
+
+Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open case file '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_config(text.str(), std::filesystem::path(path).stem().string(), overrides);
+}
+
+namespace {
+std::string divide_error(const char* what, int n, const char* by, int p, const char* why) {
+  return std::string("grid.") + what + " = " + std::to_string(n) + " is not divisible by " + by +
+         " = " + std::to_string(p) + " (" + why + ")";
+}
+}  // namespace
+
+void resolve_rank_grid(Config& c, int nranks) {
+  int& px = c.parallel.px;
+  int& pz = c.parallel.pz;
+  if (px == 0 && pz == 0) {
+    // the most square factorization whose factors divide the grid
+    int best = -1;
+    for (int a = 1; a <= nranks; ++a) {
+      if (nranks % a) continue;
+      int b = nranks / a;
+      bool ok = c.grid.nx % a == 0 && c.grid.nz % b == 0 && c.grid.ny % a == 0 &&
+                c.grid.ny % b == 0 && c.grid.nx / a >= 3 && c.grid.nz / b >= 3;
+      if (ok && (best < 0 || std::abs(a - b) < std::abs(best - nranks / best))) best = a;
+    }
+    if (best < 0)
+      throw InputError("no rank grid px x pz = " + std::to_string(nranks) +
+                       " divides the grid " + std::to_string(c.grid.nx) + " x " +
+                       std::to_string(c.grid.ny) + " x " + std::to_string(c.grid.nz) +
+                       " (px must divide nx and ny, pz must divide nz and ny)");
+    px = best;
+    pz = nranks / best;
+  } else if (px == 0 || pz == 0) {
+    int given = px ? px : pz;
+    if (nranks % given)
+      throw InputError("parallel." + std::string(px ? "px" : "pz") + " = " +
+                       std::to_string(given) + " does not divide the " +
+                       std::to_string(nranks) + " MPI ranks");
+    (px ? pz : px) = nranks / given;
+  }
+  if (px * pz != nranks)
+    throw InputError("parallel.px * parallel.pz = " + std::to_string(px * pz) +
+                     " but the run has " + std::to_string(nranks) + " MPI ranks");
+  if (c.grid.nx % px) throw InputError(divide_error("nx", c.grid.nx, "parallel.px", px, "x is split among px ranks"));
+  if (c.grid.nz % pz) throw InputError(divide_error("nz", c.grid.nz, "parallel.pz", pz, "z is split among pz ranks"));
+  if (c.grid.ny % px) throw InputError(divide_error("ny", c.grid.ny, "parallel.px", px, "the FFT in x splits y among px ranks"));
+  if (c.grid.ny % pz) throw InputError(divide_error("ny", c.grid.ny, "parallel.pz", pz, "the FFT in z splits y among pz ranks"));
+  // a rank's block must be at least as wide as the ghost layers it sends
+  if (c.grid.nx / px < 3)
+    throw InputError("grid.nx / parallel.px = " + std::to_string(c.grid.nx / px) +
+                     " cells per rank in x; at least 3 are needed (the ghost width)");
+  if (c.grid.nz / pz < 3)
+    throw InputError("grid.nz / parallel.pz = " + std::to_string(c.grid.nz / pz) +
+                     " cells per rank in z; at least 3 are needed (the ghost width)");
+  if (c.grid.ny < 4) throw InputError("grid.ny must be at least 4 (got " + std::to_string(c.grid.ny) + ")");
+}
+
+}  // namespace softflow

@@ -1,0 +1,54 @@
+// The single-phase Couette flow solver: state, work arrays and one RK3 step.
+// Everything is allocated in the constructor; advance() allocates nothing.
+#pragma once
+#include <memory>
+
+#include "../kernels/flow_state.hpp"
+#include "../kernels/manufactured.hpp"
+#include "decomposition.hpp"
+#include "halo.hpp"
+#include "poisson.hpp"
+
+namespace softflow {
+
+// Which limit set the time step (reported in the progress line).
+enum class DtLimit { advective, viscous, dt_max, end_time };
+const char* to_string(DtLimit l);
+
+class FlowSolver {
+ public:
+  // cfg.parallel must already be resolved for the communicator's size
+  FlowSolver(const Config& cfg, MPI_Comm comm);
+
+  void initialize();            // from cfg.initial, then project
+  Real stable_dt(DtLimit* which = nullptr);  // cfl times the smallest stability limit
+  void advance(Real dt);        // one RK3 step: three stages, three projections
+
+  // fill x/z ghosts and the walls' ghosts of the velocity (and of p)
+  void fill_velocity_ghosts();
+  void fill_pressure_ghosts();
+
+  const Config& config() const { return cfg_; }
+  const Decomposition& decomposition() const { return dec_; }
+  const Grid& grid() const { return grid_; }
+  FlowState& state() { return state_; }
+  const Manufactured& manufactured() const { return mms_; }
+  PoissonSolver& poisson() { return poisson_; }
+  Halo& halo() { return halo_; }
+
+  Real time = 0;
+  long step = 0;
+
+ private:
+  void project(Real adt);
+  Config cfg_;
+  Decomposition dec_;
+  Grid grid_;
+  FlowState state_;
+  MomentumRhs rhs_now_, rhs_before_;
+  Halo halo_;
+  PoissonSolver poisson_;
+  Manufactured mms_;
+};
+
+}  // namespace softflow

@@ -1,0 +1,29 @@
+// Halo exchange in the periodic x and z directions (y is never split: the
+// walls fill its ghosts, see kernels/wall_bc.hpp). x first over the interior
+// z range, then z over the whole x range, so edge and corner ghosts are right.
+#pragma once
+#include <initializer_list>
+
+#include "decomposition.hpp"
+#include "mpi_buffers.hpp"
+
+namespace softflow {
+
+class Halo {
+ public:
+  static constexpr int max_fields = 8;
+  Halo(const Decomposition& dec, const Grid& g);
+  // Fills the x and z ghosts of up to max_fields fields of the grid's storage shape.
+  void exchange(std::initializer_list<Field3> fields);
+  // bytes sent per exchange of one field (for the perf harness)
+  size_t bytes_per_field() const;
+
+ private:
+  void exchange_dir(int dir, const Field3* f, int nf);
+  const Decomposition& dec_;
+  Grid g_;
+  int left_x_, right_x_, left_z_, right_z_;
+  MpiBuffer send_lo_, send_hi_, recv_lo_, recv_hi_;
+};
+
+}  // namespace softflow

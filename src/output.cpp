@@ -1,0 +1,175 @@
+#include "output.hpp"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <regex>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace softflow {
+
+void check_output_dir(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw InputError("output folder '" + dir + "' cannot be created: " + ec.message());
+  const std::string probe = dir + "/.softflow-write-test";
+  std::ofstream f(probe);
+  if (!f || !(f << "x") || (f.close(), false))
+    throw InputError("output folder '" + dir + "' is not writable");
+  fs::remove(probe, ec);
+}
+
+namespace {
+const char* series_header =
+    "step,time,strain,dt,kinetic_energy,max_div,max_speed,tau_bottom,tau_top,mu_eff\n";
+
+std::string snapshot_name(long step) {
+  std::ostringstream s;
+  s << "fields_" << std::setw(8) << std::setfill('0') << step << ".h5";
+  return s.str();
+}
+}  // namespace
+
+Output::Output(FlowSolver& s, bool restarted)
+    : s_(s), dir_(s.config().output.dir), file_(s.decomposition(), s.grid()) {
+  series_ = series_header;
+  if (!restarted || !s.decomposition().is_root()) return;
+  // keep what the interrupted run wrote up to the checkpoint's step
+  std::ifstream in(dir_ + "/series.csv");
+  std::string line;
+  if (in && std::getline(in, line)) {
+    while (std::getline(in, line)) {
+      long st = std::atol(line.c_str());
+      if (st <= s.step) series_ += line + "\n";
+    }
+  }
+  std::regex pat(R"(fields_(\d{8})\.h5)");
+  for (const auto& e : fs::directory_iterator(dir_)) {
+    std::smatch m;
+    std::string name = e.path().filename().string();
+    if (!std::regex_match(name, m, pat)) continue;
+    long st = std::stol(m[1]);
+    if (st > s.step) continue;
+    hid_t f = H5Fopen(e.path().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0) continue;
+    double t = 0;
+    if (H5Aexists(f, "time") > 0) {
+      hid_t a = H5Aopen(f, "time", H5P_DEFAULT);
+      H5Aread(a, H5T_NATIVE_DOUBLE, &t);
+      H5Aclose(a);
+    }
+    H5Fclose(f);
+    snapshots_.push_back({st, t});
+  }
+  std::sort(snapshots_.begin(), snapshots_.end());
+}
+
+void Output::write_text(const std::string& name, const std::string& text) {
+  if (!s_.decomposition().is_root()) return;
+  const std::string path = dir_ + "/" + name, tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << text;
+    if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
+  }
+  fs::rename(tmp, path);
+}
+
+void Output::series_row(const FlowScalars& f, Real dt) {
+  if (!s_.decomposition().is_root()) return;
+  std::ostringstream r;
+  r << std::setprecision(10) << s_.step << "," << s_.time << ","
+    << s_.time * s_.config().shear_rate() << "," << dt << "," << f.kinetic_energy << ","
+    << f.max_div << "," << f.max_speed << "," << f.tau_bottom << "," << f.tau_top << ","
+    << f.mu_eff << "\n";
+  series_ += r.str();
+  write_text("series.csv", series_);
+}
+
+void Output::profiles(const FlowProfiles& p) {
+  std::ostringstream s;
+  s << std::setprecision(12) << "# rows 0..ny-1: cell centres; shear on the faces below each cell,"
+    << " the last row the top wall\ny_centre,u_mean,y_face,shear\n";
+  for (size_t r = 0; r < p.y_face.size(); ++r) {
+    if (r < p.y_centre.size()) s << p.y_centre[r] << "," << p.u_mean[r] << ",";
+    else s << ",,";
+    s << p.y_face[r] << "," << p.shear[r] << "\n";
+  }
+  write_text("profiles.csv", s.str());
+}
+
+void Output::snapshot() {
+  auto& st = s_.state();
+  const std::string name = snapshot_name(s_.step);
+  const std::string path = dir_ + "/" + name;
+  file_.write(path + ".tmp",
+              {{"u", st.u, Sample::x_face_to_centre},
+               {"v", st.v, Sample::y_face_to_centre},
+               {"w", st.w, Sample::z_face_to_centre},
+               {"p", st.p, Sample::raw}},
+              {{"time", s_.time}, {"step", double(s_.step)}});
+  commit_file(s_.decomposition(), path + ".tmp", path);
+  if (snapshots_.empty() || snapshots_.back().first != s_.step) snapshots_.push_back({s_.step, s_.time});
+  write_xdmf();
+}
+
+// XDMF 3 with the cell centres as the nodes of a co-rectilinear mesh.
+void Output::write_xdmf() {
+  const Grid& g = s_.grid();
+  std::ostringstream x;
+  x << std::setprecision(15);
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+    << "<Grid Name=\"softflow\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  const std::string dims = std::to_string(g.nz) + " " + std::to_string(g.ny) + " " + std::to_string(g.nx);
+  for (const auto& [step, time] : snapshots_) {
+    const std::string file = snapshot_name(step);
+    x << "<Grid Name=\"step " << step << "\" GridType=\"Uniform\">\n"
+      << "<Time Value=\"" << time << "\"/>\n"
+      << "<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"" << dims << "\"/>\n"
+      << "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+      << "<DataItem Dimensions=\"3\" Format=\"XML\">" << g.dz / 2 << " " << -g.h() + g.dy / 2 << " "
+      << g.dx / 2 << "</DataItem>\n"
+      << "<DataItem Dimensions=\"3\" Format=\"XML\">" << g.dz << " " << g.dy << " " << g.dx
+      << "</DataItem>\n</Geometry>\n";
+    for (const char* f : {"u", "v", "w", "p"}) {
+      x << "<Attribute Name=\"" << f << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+        << "<DataItem Dimensions=\"" << dims << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+        << file << ":/" << f << "</DataItem>\n</Attribute>\n";
+    }
+    x << "<Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n"
+      << "<DataItem ItemType=\"Function\" Function=\"JOIN($0, $1, $2)\" Dimensions=\"" << dims << " 3\">\n";
+    for (const char* f : {"u", "v", "w"})
+      x << "<DataItem Dimensions=\"" << dims << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+        << file << ":/" << f << "</DataItem>\n";
+    x << "</DataItem>\n</Attribute>\n</Grid>\n";
+  }
+  x << "</Grid>\n</Domain>\n</Xdmf>\n";
+  write_text("fields.xdmf", x.str());
+}
+
+void Output::checkpoint() {
+  auto& st = s_.state();
+  const std::string path = dir_ + "/checkpoint.h5";
+  const Grid& g = s_.grid();
+  file_.write(path + ".tmp", {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}},
+              {{"time", s_.time}, {"step", double(s_.step)}, {"nx", double(g.nx)},
+               {"ny", double(g.ny)}, {"nz", double(g.nz)}});
+  commit_file(s_.decomposition(), path + ".tmp", path);
+}
+
+void Output::restart(FlowSolver& s, const std::string& path) {
+  FieldFile f(s.decomposition(), s.grid());
+  auto& st = s.state();
+  auto a = f.read(path, {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}}, {"time", "step"});
+  s.time = a.at("time");
+  s.step = long(a.at("step"));
+  s.fill_velocity_ghosts();
+  s.fill_pressure_ghosts();
+}
+
+}  // namespace softflow

@@ -1,0 +1,145 @@
+#include "run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <sstream>
+
+#include "output.hpp"
+
+namespace softflow {
+
+namespace {
+
+std::string hms(double s) {
+  if (!std::isfinite(s) || s < 0) return "--:--:--";
+  long t = long(s + 0.5);
+  char b[32];
+  std::snprintf(b, sizeof b, "%02ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+  return b;
+}
+
+void write_summary(const FlowSolver& s, const Output& out, const FlowScalars& f,
+                   const RunResult& r, const std::string& dir) {
+  if (!s.decomposition().is_root()) return;
+  const Config& c = s.config();
+  nlohmann::json j;
+  j["code"] = {{"name", "softflow"}, {"version", SOFTFLOW_VERSION},
+               {"kokkos_execution_space", ExecSpace::name()}};
+  j["case"] = {{"name", c.case_name}, {"resolved_input", c.source_text},
+               {"grid", {c.grid.nx, c.grid.ny, c.grid.nz}},
+               {"box", {c.grid.lx, c.grid.ly, c.grid.lz}},
+               {"rho", c.fluid.rho}, {"mu_f", c.fluid.mu}, {"wall_velocity", c.walls.velocity},
+               {"shear_rate", c.shear_rate()},
+               {"reynolds_h", c.fluid.rho * c.walls.velocity * c.h() / c.fluid.mu}};
+  j["parallel"] = {{"ranks", s.decomposition().size}, {"px", c.parallel.px}, {"pz", c.parallel.pz},
+                   {"threads_per_rank", ExecSpace().concurrency()}};
+  j["final"] = {{"step", s.step}, {"time", s.time}, {"strain", s.time * c.shear_rate()},
+                {"kinetic_energy", f.kinetic_energy}, {"max_div", f.max_div},
+                {"tau_bottom", f.tau_bottom}, {"tau_top", f.tau_top}, {"mu_eff", f.mu_eff}};
+  const double cs = double(s.grid().cells_global()) * r.steps / std::max(r.wall_seconds, 1e-30);
+  j["performance"] = {{"steps", r.steps}, {"wall_seconds", r.wall_seconds},
+                      {"cell_steps_per_second", cs}};
+  const std::string path = dir + "/summary.json";
+  {
+    std::ofstream o(path + ".tmp");
+    o << j.dump(2) << "\n";
+  }
+  std::rename((path + ".tmp").c_str(), path.c_str());
+  (void)out;
+}
+
+}  // namespace
+
+RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
+  FlowSolver solver(cfg, comm);
+  const bool root = solver.decomposition().is_root();
+  const bool restarted = !cfg.restart.empty();
+  if (restarted) {
+    Output::restart(solver, cfg.restart);
+  } else {
+    solver.initialize();
+  }
+  Output out(solver, restarted);
+  Diagnostics diag(solver);
+  const OutputConfig& oc = cfg.output;
+  const Real t_end = cfg.end_time_resolved();
+  const Real gamma = cfg.shear_rate();
+  // snapshots every fields_every strain units (or time units when gamma = 0)
+  const Real snap_dt = oc.fields_every > 0 ? oc.fields_every / (gamma != 0 ? gamma : 1) : 0;
+  Real next_snap = snap_dt > 0 ? (std::floor(solver.time / snap_dt + 1e-9) + 1) * snap_dt : 1e300;
+
+  if (root) {
+    const Grid& g = solver.grid();
+    log << "softflow " << SOFTFLOW_VERSION << ": case '" << cfg.case_name << "', grid " << g.nx
+        << " x " << g.ny << " x " << g.nz << ", " << solver.decomposition().size << " rank(s) ("
+        << cfg.parallel.px << " x " << cfg.parallel.pz << "), " << ExecSpace::name() << " with "
+        << ExecSpace().concurrency() << " thread(s) per rank\n"
+        << (restarted ? "restarted from " + cfg.restart + " at step " + std::to_string(solver.step)
+                      : std::string("initial state: ") + cfg.initial.type)
+        << ", end time " << t_end << " (strain " << t_end * gamma << ")\n";
+  }
+  if (!restarted) {
+    out.series_row(diag.scalars(), 0);
+    out.snapshot();
+  }
+
+  RunResult res;
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  auto last = t0;
+  long last_step = solver.step;
+  Real dt = 0;
+  while (solver.time < t_end * (1 - 1e-14) && (cfg.time.max_steps == 0 || res.steps < cfg.time.max_steps)) {
+    DtLimit lim;
+    dt = solver.stable_dt(&lim);
+    if (solver.time + dt > t_end) {
+      dt = t_end - solver.time;
+      lim = DtLimit::end_time;
+    }
+    solver.advance(dt);
+    ++res.steps;
+    if (!std::isfinite(solver.time) || (oc.series_every && solver.step % oc.series_every == 0)) {
+      FlowScalars f = diag.scalars();
+      out.series_row(f, dt);
+      if (!std::isfinite(f.kinetic_energy))
+        throw std::runtime_error("the solution is no longer finite at step " + std::to_string(solver.step));
+    }
+    if (solver.time >= next_snap * (1 - 1e-12)) {
+      out.snapshot();
+      next_snap += snap_dt;
+    }
+    if (oc.checkpoint_every && solver.step % oc.checkpoint_every == 0) out.checkpoint();
+    if (root && oc.progress_every && solver.step % oc.progress_every == 0) {
+      Kokkos::fence("progress");
+      const auto now = clock::now();
+      const double per = std::chrono::duration<double>(now - last).count() / (solver.step - last_step);
+      const double eta = per * (t_end - solver.time) / dt;
+      log << "step " << std::setw(8) << solver.step << "  t " << std::setw(10) << std::setprecision(5)
+          << solver.time << "  strain " << std::setw(8) << solver.time * gamma << "  dt "
+          << std::setprecision(3) << dt << " (" << to_string(lim) << ")  " << std::setprecision(3)
+          << per * 1e3 << " ms/step  ETA " << hms(eta) << std::endl;
+      last = now;
+      last_step = solver.step;
+    }
+  }
+  Kokkos::fence("run_end");
+  res.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
+  FlowScalars f = diag.scalars();
+  if (res.steps > 0 && (!oc.series_every || solver.step % oc.series_every)) out.series_row(f, dt);
+  out.snapshot();
+  out.checkpoint();
+  out.profiles(diag.profiles());
+  write_summary(solver, out, f, res, oc.dir);
+  if (root) {
+    log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
+        << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff
+        << ", output in " << oc.dir << "/\n";
+  }
+  return res;
+}
+
+}  // namespace softflow

@@ -1,0 +1,36 @@
+// Pencil transposes for the FFT Poisson solver, on MPI all-to-all.
+//
+// Work arrays are flat Views with the pencil's whole direction contiguous:
+//   y-pencil: (j, i, k) -> j + ny * (i + nxl * k)        i < nxl,  k < nzl
+//   x-pencil: (i, j, k) -> i + nx * (j + ny_x * k)       j < ny_x, k < nzl
+//   z-pencil: (k, i, j) -> k + nz * (i + nxl * j)        j < ny_z
+// so every 1-D FFT and the tridiagonal solves run over contiguous lines.
+#pragma once
+#include "decomposition.hpp"
+#include "mpi_buffers.hpp"
+
+namespace softflow {
+
+class Transposer {
+ public:
+  explicit Transposer(const Decomposition& dec);
+  size_t y_size() const { return size_t(dec_.ny) * dec_.nxl * dec_.nzl; }
+  size_t x_size() const { return size_t(dec_.nx) * dec_.ny_x * dec_.nzl; }
+  size_t z_size() const { return size_t(dec_.nz) * dec_.nxl * dec_.ny_z; }
+
+  void y_to_x(const Array1& y, const Array1& x);
+  void x_to_y(const Array1& x, const Array1& y);
+  void y_to_z(const Array1& y, const Array1& z);
+  void z_to_y(const Array1& z, const Array1& y);
+
+  // bytes this rank sends per transpose through MPI (0 where the group is one rank)
+  size_t bytes_x() const { return dec_.px > 1 ? y_size() * sizeof(Real) : 0; }
+  size_t bytes_z() const { return dec_.pz > 1 ? y_size() * sizeof(Real) : 0; }
+
+ private:
+  void alltoall(MPI_Comm comm, int p, size_t n);
+  const Decomposition& dec_;
+  MpiBuffer send_, recv_;
+};
+
+}  // namespace softflow

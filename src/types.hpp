@@ -1,0 +1,47 @@
+// One place for softflow's basic types: the floating-point type, the execution
+// space, the View aliases and the labelled loop wrappers (so the loop policy
+// can be changed, and measured, in one place).
+#pragma once
+#include <Kokkos_Core.hpp>
+
+namespace softflow {
+
+using Real = double;
+using ExecSpace = Kokkos::DefaultExecutionSpace;
+using MemSpace = ExecSpace::memory_space;
+
+// Fields are stored x-fastest (LayoutLeft) on every backend: x lines are
+// contiguous, which suits both the CPU's vector units and coalesced GPU access.
+using Field3 = Kokkos::View<Real***, Kokkos::LayoutLeft, MemSpace>;
+using Array1 = Kokkos::View<Real*, MemSpace>;
+using HostField3 = Field3::host_mirror_type;
+
+// Index range [b, e) of storage indices in each direction.
+struct Range3 {
+  int ib, ie, jb, je, kb, ke;
+  long size() const { return long(ie - ib) * (je - jb) * (ke - kb); }
+};
+
+using Policy3 = Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<3, Kokkos::Iterate::Left,
+                                                             Kokkos::Iterate::Left>>;
+
+inline Policy3 policy(const Range3& r) { return Policy3({r.ib, r.jb, r.kb}, {r.ie, r.je, r.ke}); }
+
+// Labelled 3-D loop over a range. Labels follow `module_action`.
+template <class F>
+inline void par_for(const char* label, const Range3& r, const F& f) {
+  if (r.size() <= 0) return;
+  Kokkos::parallel_for(label, policy(r), f);
+}
+
+// Labelled 3-D reduction with a Kokkos reducer (Max, Sum, ...).
+template <class F, class Reducer>
+inline void par_reduce(const char* label, const Range3& r, const F& f, const Reducer& red) {
+  if (r.size() <= 0) {
+    red.init(red.reference());
+    return;
+  }
+  Kokkos::parallel_reduce(label, policy(r), f, red);
+}
+
+}  // namespace softflow

@@ -1,0 +1,113 @@
+// Case files: every bad input gets an error that names the problem.
+#include <gtest/gtest.h>
+
+#include "config.hpp"
+
+using namespace softflow;
+
+namespace {
+
+const char* good = R"(
+[grid]
+nx = 16
+ny = 8
+nz = 12
+lx = 1.0
+ly = 2.0
+lz = 1.0
+[fluid]
+rho = 1.0
+mu = 0.5
+[walls]
+velocity = 1.0
+[time]
+end_strain = 2.0
+)";
+
+std::string error_of(const std::string& text, std::vector<std::string> overrides = {}, int ranks = 1) {
+  try {
+    Config c = parse_config(text, "case", overrides);
+    resolve_rank_grid(c, ranks);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expect_error(const std::string& err, const std::string& fragment) {
+  EXPECT_NE(err.find(fragment), std::string::npos) << "error was: '" << err << "'";
+}
+
+}  // namespace
+
+TEST(Config, GoodCaseParsesWithDefaults) {
+  Config c = parse_config(good, "case", {});
+  EXPECT_EQ(c.grid.nx, 16);
+  EXPECT_DOUBLE_EQ(c.fluid.mu, 0.5);
+  EXPECT_DOUBLE_EQ(c.shear_rate(), 1.0);
+  EXPECT_DOUBLE_EQ(c.end_time_resolved(), 2.0);
+  EXPECT_EQ(c.initial.type, "rest");
+  EXPECT_EQ(c.output.dir, "output");
+}
+
+TEST(Config, OverridesSetKeys) {
+  Config c = parse_config(good, "case", {"grid.nx=32", "output.dir=elsewhere", "initial.type=couette",
+                                         "time.cfl=0.5"});
+  EXPECT_EQ(c.grid.nx, 32);
+  EXPECT_EQ(c.output.dir, "elsewhere");
+  EXPECT_EQ(c.initial.type, "couette");
+  EXPECT_DOUBLE_EQ(c.time.cfl, 0.5);
+}
+
+TEST(Config, UnknownKeysAreNamed) {
+  expect_error(error_of(good, {"grid.nxx=3"}), "unknown key 'grid.nxx'");
+  expect_error(error_of(std::string(good) + "[solver]\nx = 1\n"), "unknown key 'solver'");
+}
+
+TEST(Config, MissingKeysAreNamed) {
+  std::string t = good;
+  t.erase(t.find("mu = 0.5"), 8);
+  expect_error(error_of(t), "missing key 'fluid.mu'");
+  std::string u = good;
+  u.erase(u.find("end_strain = 2.0"), 16);
+  expect_error(error_of(u), "time.end_strain");
+}
+
+TEST(Config, NonPositiveValuesAreRejected) {
+  expect_error(error_of(good, {"fluid.mu=-1"}), "'fluid.mu' must be positive (got -1)");
+  expect_error(error_of(good, {"grid.lx=0"}), "'grid.lx' must be positive");
+  expect_error(error_of(good, {"grid.nz=-4"}), "'grid.nz' must be positive");
+  expect_error(error_of(good, {"fluid.rho=0"}), "'fluid.rho' must be positive");
+  expect_error(error_of(good, {"time.cfl=1.5"}), "'time.cfl' must be at most 1");
+}
+
+TEST(Config, WrongTypesAreRejected) {
+  expect_error(error_of(good, {"grid.nx=1.5"}), "'grid.nx' must be an integer");
+  expect_error(error_of(good, {"fluid.mu=\"thick\""}), "'fluid.mu' must be a number");
+  expect_error(error_of(good, {"initial.type=vortex"}), "'initial.type' must be");
+  expect_error(error_of("[grid\nnx=1"), "invalid TOML at line 1");
+  expect_error(error_of(good, {"gridnx=3"}), "must be table.key");
+}
+
+TEST(Config, RankGridMustDivideTheGrid) {
+  expect_error(error_of(good, {}, 3), "no rank grid px x pz = 3 divides the grid");
+  expect_error(error_of(good, {"parallel.px=2", "parallel.pz=1"}, 4), "parallel.px * parallel.pz = 2");
+  expect_error(error_of(good, {"grid.nx=18", "parallel.px=4", "parallel.pz=1"}, 4),
+               "grid.nx = 18 is not divisible by parallel.px = 4");
+  expect_error(error_of(good, {"grid.ny=6", "parallel.px=4", "parallel.pz=1"}, 4),
+               "grid.ny = 6 is not divisible by parallel.px = 4");
+  expect_error(error_of(good, {"grid.nz=8", "parallel.px=1", "parallel.pz=4"}, 4),
+               "grid.nz / parallel.pz = 2 cells per rank in z; at least 3 are needed");
+  Config c = parse_config(good, "case", {});
+  resolve_rank_grid(c, 4);
+  EXPECT_EQ(c.parallel.px * c.parallel.pz, 4);
+}
+
+TEST(Config, MissingFileIsNamed) {
+  try {
+    load_config("/nonexistent/case.toml", {});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "cannot open case file '/nonexistent/case.toml'");
+  }
+}

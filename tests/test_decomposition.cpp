@@ -1,0 +1,63 @@
+// The answer does not depend on the rank count or the rank grid: every rank
+// compares its block with the same case solved on one rank (MPI_COMM_SELF).
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+
+using namespace softflow;
+using namespace softflow::test;
+
+namespace {
+
+Config case_for(int px, int pz, int nranks) {
+  return couette_case(24, 16, 12,
+                      {"initial.type=manufactured", "initial.amplitude=2.0", "fluid.mu=0.05",
+                       "parallel.px=" + std::to_string(px), "parallel.pz=" + std::to_string(pz)},
+                      nranks);
+}
+
+void run_steps(FlowSolver& s, int n) {
+  s.initialize();
+  for (int k = 0; k < n; ++k) s.advance(s.stable_dt());
+}
+
+// max |parallel - serial| over this rank's block, for one field
+double block_diff(const FlowSolver& par, const Field3& a, const Field3& serial) {
+  const Grid g = par.grid();
+  const int ox = g.x0, oz = g.z0;
+  double m = 0;
+  par_reduce(
+      "test_block_diff", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& x) {
+        x = Kokkos::fmax(x, Kokkos::fabs(a(i, j, k) - serial(i + ox, j, k + oz)));
+      },
+      Kokkos::Max<double>(m));
+  return m;
+}
+
+}  // namespace
+
+TEST(Decomposition, SameFieldsOnEveryRankGrid) {
+  const int n = world_size();
+  if (n == 1) GTEST_SKIP() << "needs more than one rank";
+  std::vector<std::pair<int, int>> grids = {{n, 1}, {1, n}};
+  if (n == 4) grids.push_back({2, 2});
+  Config cs = case_for(1, 1, 1);
+  FlowSolver serial(cs, MPI_COMM_SELF);
+  run_steps(serial, 12);
+  for (auto [px, pz] : grids) {
+    Config c = case_for(px, pz, n);
+    FlowSolver par(c, MPI_COMM_WORLD);
+    run_steps(par, 12);
+    EXPECT_EQ(par.step, serial.step);
+    EXPECT_DOUBLE_EQ(par.time, serial.time);
+    double worst = 0;
+    auto& a = par.state();
+    auto& b = serial.state();
+    for (auto f : {&FlowState::u, &FlowState::v, &FlowState::w, &FlowState::p})
+      worst = std::max(worst, block_diff(par, a.*f, b.*f));
+    worst = global_max(worst);
+    if (world_rank() == 0) std::printf("  %d x %d ranks: max difference to 1 rank %.3e\n", px, pz, worst);
+    EXPECT_LT(worst, 1e-12) << px << " x " << pz;
+  }
+}
