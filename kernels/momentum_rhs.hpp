@@ -10,45 +10,42 @@
 namespace softflow {
 
 struct AdvectionDiffusion {
-  Real idx, idy, idz, nu;
+  Real idx, idy, idz;
 
-  // x-momentum at face (i+1/2, j, k)
+  // div(u u) of x-momentum at face (i+1/2, j, k)
   template <class V>
-  KOKKOS_INLINE_FUNCTION Real rhs_u(const V& u, const V& v, const V& w, int i, int j, int k) const {
+  KOKKOS_INLINE_FUNCTION Real adv_u(const V& u, const V& v, const V& w, int i, int j, int k) const {
     const Real uuxp = 0.25 * (u(i, j, k) + u(i + 1, j, k)) * (u(i, j, k) + u(i + 1, j, k));
     const Real uuxm = 0.25 * (u(i - 1, j, k) + u(i, j, k)) * (u(i - 1, j, k) + u(i, j, k));
     const Real uvyp = 0.25 * (u(i, j, k) + u(i, j + 1, k)) * (v(i, j, k) + v(i + 1, j, k));
     const Real uvym = 0.25 * (u(i, j - 1, k) + u(i, j, k)) * (v(i, j - 1, k) + v(i + 1, j - 1, k));
     const Real uwzp = 0.25 * (u(i, j, k) + u(i, j, k + 1)) * (w(i, j, k) + w(i + 1, j, k));
     const Real uwzm = 0.25 * (u(i, j, k - 1) + u(i, j, k)) * (w(i, j, k - 1) + w(i + 1, j, k - 1));
-    const Real adv = (uuxp - uuxm) * idx + (uvyp - uvym) * idy + (uwzp - uwzm) * idz;
-    return -adv + nu * lap(u, i, j, k);
+    return (uuxp - uuxm) * idx + (uvyp - uvym) * idy + (uwzp - uwzm) * idz;
   }
 
-  // y-momentum at face (i, j+1/2, k)
+  // div(u v) of y-momentum at face (i, j+1/2, k)
   template <class V>
-  KOKKOS_INLINE_FUNCTION Real rhs_v(const V& u, const V& v, const V& w, int i, int j, int k) const {
+  KOKKOS_INLINE_FUNCTION Real adv_v(const V& u, const V& v, const V& w, int i, int j, int k) const {
     const Real uvxp = 0.25 * (u(i, j, k) + u(i, j + 1, k)) * (v(i, j, k) + v(i + 1, j, k));
     const Real uvxm = 0.25 * (u(i - 1, j, k) + u(i - 1, j + 1, k)) * (v(i - 1, j, k) + v(i, j, k));
     const Real vvyp = 0.25 * (v(i, j, k) + v(i, j + 1, k)) * (v(i, j, k) + v(i, j + 1, k));
     const Real vvym = 0.25 * (v(i, j - 1, k) + v(i, j, k)) * (v(i, j - 1, k) + v(i, j, k));
     const Real vwzp = 0.25 * (v(i, j, k) + v(i, j, k + 1)) * (w(i, j, k) + w(i, j + 1, k));
     const Real vwzm = 0.25 * (v(i, j, k - 1) + v(i, j, k)) * (w(i, j, k - 1) + w(i, j + 1, k - 1));
-    const Real adv = (uvxp - uvxm) * idx + (vvyp - vvym) * idy + (vwzp - vwzm) * idz;
-    return -adv + nu * lap(v, i, j, k);
+    return (uvxp - uvxm) * idx + (vvyp - vvym) * idy + (vwzp - vwzm) * idz;
   }
 
-  // z-momentum at face (i, j, k+1/2)
+  // div(u w) of z-momentum at face (i, j, k+1/2)
   template <class V>
-  KOKKOS_INLINE_FUNCTION Real rhs_w(const V& u, const V& v, const V& w, int i, int j, int k) const {
+  KOKKOS_INLINE_FUNCTION Real adv_w(const V& u, const V& v, const V& w, int i, int j, int k) const {
     const Real uwxp = 0.25 * (u(i, j, k) + u(i, j, k + 1)) * (w(i, j, k) + w(i + 1, j, k));
     const Real uwxm = 0.25 * (u(i - 1, j, k) + u(i - 1, j, k + 1)) * (w(i - 1, j, k) + w(i, j, k));
     const Real vwyp = 0.25 * (v(i, j, k) + v(i, j, k + 1)) * (w(i, j, k) + w(i, j + 1, k));
     const Real vwym = 0.25 * (v(i, j - 1, k) + v(i, j - 1, k + 1)) * (w(i, j - 1, k) + w(i, j, k));
     const Real wwzp = 0.25 * (w(i, j, k) + w(i, j, k + 1)) * (w(i, j, k) + w(i, j, k + 1));
     const Real wwzm = 0.25 * (w(i, j, k - 1) + w(i, j, k)) * (w(i, j, k - 1) + w(i, j, k));
-    const Real adv = (uwxp - uwxm) * idx + (vwyp - vwym) * idy + (wwzp - wwzm) * idz;
-    return -adv + nu * lap(w, i, j, k);
+    return (uwxp - uwxm) * idx + (vwyp - vwym) * idy + (wwzp - wwzm) * idz;
   }
 
   template <class V>
@@ -63,19 +60,40 @@ struct AdvectionDiffusion {
 // Fills rhs with N(u) at time t on the interior unknowns (v without the walls).
 inline void momentum_rhs(const Grid& g, const FlowState& s, Real nu, const Manufactured& mms,
                          Real t, const MomentumRhs& rhs) {
-  const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz, nu};
+  const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz};
   auto u = s.u, v = s.v, w = s.w;
   auto ru = rhs.u, rv = rhs.v, rw = rhs.w;
   const int vtop = Grid::ng + g.ny - 1;  // the top wall's v is not an unknown
   par_for("momentum_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    ru(i, j, k) = op.rhs_u(u, v, w, i, j, k);
-    rw(i, j, k) = op.rhs_w(u, v, w, i, j, k);
-    rv(i, j, k) = j < vtop ? op.rhs_v(u, v, w, i, j, k) : Real(0);
+    ru(i, j, k) = -op.adv_u(u, v, w, i, j, k) + nu * op.lap(u, i, j, k);
+    rw(i, j, k) = -op.adv_w(u, v, w, i, j, k) + nu * op.lap(w, i, j, k);
+    rv(i, j, k) = j < vtop ? -op.adv_v(u, v, w, i, j, k) + nu * op.lap(v, i, j, k) : Real(0);
     if (mms.enabled) {
       ru(i, j, k) += mms.force(0, g.xf(i), g.yc(j), g.zc(k), t);
       rw(i, j, k) += mms.force(2, g.xc(i), g.yc(j), g.zf(k), t);
       if (j < vtop) rv(i, j, k) += mms.force(1, g.xc(i), g.yf(j), g.zc(k), t);
     }
+  });
+}
+
+}  // namespace softflow
+
+#include "mixture_stress.hpp"
+
+namespace softflow {
+
+// N(u) of the one-continuum mixture: -div(u u) + div(2 mu(phi) D) / rho
+// (the elastic force is added separately, Crank-Nicolson across the stage).
+inline void momentum_rhs_mixture(const Grid& g, const FlowState& s, const MixtureStress& st,
+                                 const Field3& phi, const MomentumRhs& rhs) {
+  const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz};
+  auto u = s.u, v = s.v, w = s.w;
+  auto ru = rhs.u, rv = rhs.v, rw = rhs.w;
+  const int vtop = Grid::ng + g.ny - 1;
+  par_for("momentum_rhs_mixture", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+    ru(i, j, k) = -op.adv_u(u, v, w, i, j, k) + st.viscous_u(u, v, w, phi, i, j, k);
+    rw(i, j, k) = -op.adv_w(u, v, w, i, j, k) + st.viscous_w(u, v, w, phi, i, j, k);
+    rv(i, j, k) = j < vtop ? -op.adv_v(u, v, w, i, j, k) + st.viscous_v(u, v, w, phi, i, j, k) : Real(0);
   });
 }
 

@@ -122,12 +122,12 @@ Config parse_config(const std::string& text, const std::string& name,
   }
   for (const auto& o : overrides) apply_override(root, o);
 
-  const std::set<std::string> tables = {"grid", "fluid", "walls", "time",
-                                        "initial", "output", "parallel", "restart"};
+  const std::set<std::string> tables = {"grid", "fluid", "walls", "time", "initial",
+                                        "output", "parallel", "particles", "restart"};
   for (auto&& [k, v] : root) {
     if (!tables.count(std::string(k.str())))
       throw InputError("unknown key '" + std::string(k.str()) + "' (tables: grid, fluid, walls, "
-                       "time, initial, output, parallel, restart)");
+                       "time, initial, output, parallel, particles, restart)");
   }
 
   Config c;
@@ -159,6 +159,8 @@ Config parse_config(const std::string& text, const std::string& name,
   {
     TableReader r(root, "walls");
     r.read("velocity", c.walls.velocity, true);
+    r.read("omega", c.walls.omega, false);
+    r.non_negative("omega", c.walls.omega);
     r.finish();
   }
   {
@@ -212,6 +214,64 @@ Config parse_config(const std::string& text, const std::string& name,
     r.read("pz", c.parallel.pz, false);
     r.non_negative("px", c.parallel.px);
     r.non_negative("pz", c.parallel.pz);
+    r.finish();
+  }
+  {
+    TableReader r(root, "particles");
+    ParticleConfig& p = c.particles;
+    p.enabled = r.present();
+    if (p.enabled) {
+      r.read("shape", p.shape, false);
+      if (p.shape != "spheres" && p.shape != "layer")
+        throw InputError("'particles.shape' must be \"spheres\" or \"layer\" (got \"" + p.shape + "\")");
+      if (p.shape == "spheres") {
+        r.read("radius", p.radius, true);
+        r.positive("radius", p.radius);
+        bool has_phi = r.read("volume_fraction", p.volume_fraction, false);
+        bool has_n = r.read("count", p.count, false);
+        if (has_phi == has_n)
+          throw InputError("give exactly one of 'particles.volume_fraction' and 'particles.count'");
+        if (has_phi && !(p.volume_fraction > 0 && p.volume_fraction < 0.6))
+          throw InputError("'particles.volume_fraction' must be in (0, 0.6) (got " +
+                           std::to_string(p.volume_fraction) + ")");
+        if (has_n) r.positive("count", p.count);
+        r.read("placement", p.placement, false);
+        if (p.placement != "random" && p.placement != "centre")
+          throw InputError("'particles.placement' must be \"random\" or \"centre\"");
+        if (p.placement == "centre" && !(has_n && p.count == 1))
+          throw InputError("'particles.placement = \"centre\"' needs 'particles.count = 1'");
+        r.read("min_gap", p.min_gap, false);
+        r.non_negative("min_gap", p.min_gap);
+        long seed = 1;
+        r.read("seed", seed, false);
+        r.non_negative("seed", seed);
+        p.seed = (unsigned long)seed;
+        r.read("subsamples", p.subsamples, false);
+        r.positive("subsamples", p.subsamples);
+        if (2 * (p.radius + p.min_gap) > c.grid.ly)
+          throw InputError("particles of radius " + std::to_string(p.radius) + " and gap " +
+                           std::to_string(p.min_gap) + " do not fit between the walls (ly = " +
+                           std::to_string(c.grid.ly) + ")");
+      } else {
+        r.read("layer_thickness", p.layer_thickness, true);
+        r.positive("layer_thickness", p.layer_thickness);
+        if (p.layer_thickness >= c.grid.ly)
+          throw InputError("'particles.layer_thickness' must be smaller than 'grid.ly'");
+      }
+      bool has_ca = r.read("capillary", p.capillary, false);
+      bool has_g = r.read("shear_modulus", p.shear_modulus, false);
+      if (has_ca == has_g)
+        throw InputError("give exactly one of 'particles.capillary' and 'particles.shear_modulus'");
+      if (has_ca) {
+        r.positive("capillary", p.capillary);
+        if (c.walls.velocity == 0)
+          throw InputError("'particles.capillary' needs a non-zero 'walls.velocity' (Ca = mu_f gamma / G); "
+                           "give 'particles.shear_modulus' instead");
+      }
+      if (has_g) r.positive("shear_modulus", p.shear_modulus);
+      r.read("viscosity_ratio", p.viscosity_ratio, false);
+      r.positive("viscosity_ratio", p.viscosity_ratio);
+    }
     r.finish();
   }
   {

@@ -27,6 +27,24 @@ struct FluidConfig {
 
 struct WallConfig {
   Real velocity = 0;  // V_w: the top wall moves at +V_w, the bottom at -V_w (x direction)
+  Real omega = 0;     // if > 0 the walls oscillate: +-V_w cos(omega t)
+};
+
+// The solid phase. Absent ([particles] not given): no phi, no B, no cost.
+struct ParticleConfig {
+  bool enabled = false;
+  std::string shape = "spheres";  // "spheres", or "layer": a solid slab |y| < thickness / 2
+  Real radius = 1;                // sphere radius r
+  Real volume_fraction = -1;      // Phi of the box, or
+  int count = -1;                 // the number of spheres (exactly one of the two)
+  std::string placement = "random";  // "random", or "centre" (one sphere at the box centre)
+  Real min_gap = 0.1;             // smallest surface-to-surface gap at seeding, also to the walls
+  unsigned long seed = 1;         // random placement seed
+  int subsamples = 8;             // sub-cell samples per direction for phi at interfaces
+  Real layer_thickness = 0;       // shape = "layer"
+  Real capillary = -1;            // Ca = mu_f gamma / G, or
+  Real shear_modulus = -1;        // G (exactly one of the two)
+  Real viscosity_ratio = 1;       // K = mu_s / mu_f
 };
 
 struct TimeConfig {
@@ -65,6 +83,7 @@ struct Config {
   InitialConfig initial;
   OutputConfig output;
   ParallelConfig parallel;
+  ParticleConfig particles;
   std::string restart;     // checkpoint to start from ("" = none)
   std::string case_name;   // file stem of the case file
   std::string source_text; // the resolved case, as TOML, for the run summary
@@ -72,6 +91,12 @@ struct Config {
   Real h() const { return grid.ly / 2; }
   Real shear_rate() const { return walls.velocity / h(); }  // gamma = V_w / h
   Real nu() const { return fluid.mu / fluid.rho; }
+  // the solid's shear modulus G (from Ca or given) and viscosity mu_s = K mu_f
+  Real shear_modulus() const {
+    return particles.shear_modulus > 0 ? particles.shear_modulus
+                                       : fluid.mu * shear_rate() / particles.capillary;
+  }
+  Real solid_viscosity() const { return particles.viscosity_ratio * fluid.mu; }
   Real end_time_resolved() const;
 };
 

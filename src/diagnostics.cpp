@@ -1,4 +1,5 @@
 #include "diagnostics.hpp"
+#include "../kernels/solid_state.hpp"
 
 #include <cmath>
 
@@ -111,7 +112,54 @@ FlowScalars Diagnostics::scalars() {
   f.kinetic_energy = ke / Real(g.cells_global());
   f.max_div = div;
   f.max_speed = speed;
+  if (s_.solid()) solid_scalars(f);
   return f;
+}
+
+void Diagnostics::solid_scalars(FlowScalars& f) {
+  const Grid g = s_.grid();
+  const SolidViews q(s_.solid()->fields());
+  Real vol = 0, pmin = 0, pmax = 0, dmin = 0, dmax = 0;
+  par_reduce(
+      "diagnostics_solid_volume", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += q.phi(i, j, k); }, Kokkos::Sum<Real>(vol));
+  par_reduce(
+      "diagnostics_phi_min", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a = Kokkos::fmin(a, q.phi(i, j, k)); },
+      Kokkos::Min<Real>(pmin));
+  par_reduce(
+      "diagnostics_phi_max", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a = Kokkos::fmax(a, q.phi(i, j, k)); },
+      Kokkos::Max<Real>(pmax));
+  auto detb = KOKKOS_LAMBDA(int i, int j, int k) {
+    const Real xx = q.b0(i, j, k), xy = q.b1(i, j, k), xz = q.b2(i, j, k), yy = q.b3(i, j, k),
+               yz = q.b4(i, j, k), zz = q.b5(i, j, k);
+    return xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+  };
+  par_reduce(
+      "diagnostics_detb_min", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+        if (q.phi(i, j, k) > 0.5) a = Kokkos::fmin(a, detb(i, j, k));
+      },
+      Kokkos::Min<Real>(dmin));
+  par_reduce(
+      "diagnostics_detb_max", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+        if (q.phi(i, j, k) > 0.5) a = Kokkos::fmax(a, detb(i, j, k));
+      },
+      Kokkos::Max<Real>(dmax));
+  MPI_Comm c = s_.decomposition().comm;
+  MPI_Allreduce(MPI_IN_PLACE, &vol, 1, MPI_DOUBLE, MPI_SUM, c);
+  MPI_Allreduce(MPI_IN_PLACE, &pmin, 1, MPI_DOUBLE, MPI_MIN, c);
+  MPI_Allreduce(MPI_IN_PLACE, &pmax, 1, MPI_DOUBLE, MPI_MAX, c);
+  MPI_Allreduce(MPI_IN_PLACE, &dmin, 1, MPI_DOUBLE, MPI_MIN, c);
+  MPI_Allreduce(MPI_IN_PLACE, &dmax, 1, MPI_DOUBLE, MPI_MAX, c);
+  f.solid_volume = vol * g.dx * g.dy * g.dz;
+  f.phi_min = pmin;
+  f.phi_max = pmax;
+  // no solid cell anywhere: report the neutral value
+  f.detb_min = dmin > 1e300 ? 1 : dmin;
+  f.detb_max = dmax < -1e300 ? 1 : dmax;
 }
 
 }  // namespace softflow

@@ -16,6 +16,10 @@ struct FlowScalars {
   Real tau_bottom = 0;      // <sigma_12> on the bottom wall
   Real tau_top = 0;         // <sigma_12> on the top wall
   Real mu_eff = 0;          // (tau_bottom + tau_top) / 2 / (mu_f gamma), 0 if gamma = 0
+  // solid phase (zero without particles)
+  Real solid_volume = 0;    // sum of phi dV (unclamped: conserved to round-off)
+  Real phi_min = 0, phi_max = 0;
+  Real detb_min = 1, detb_max = 1;  // det B over cells with phi > 0.5 (exactly 1 in theory)
 };
 
 struct FlowProfiles {
@@ -27,10 +31,14 @@ class Diagnostics {
  public:
   explicit Diagnostics(FlowSolver& s);
   FlowScalars scalars();
+  void solid_scalars(FlowScalars& f);
   FlowProfiles profiles();
 
- private:
+  // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
+  // private or protected member functions
   void plane_sums();  // fills sums_ (device) and reduces over ranks into host_
+
+ private:
   FlowSolver& s_;
   Kokkos::View<Real**, Kokkos::LayoutLeft, MemSpace> sums_;  // (row, quantity)
   Kokkos::View<Real**, Kokkos::LayoutLeft, Kokkos::HostSpace> host_;

@@ -8,11 +8,12 @@
 #include "decomposition.hpp"
 #include "halo.hpp"
 #include "poisson.hpp"
+#include "solid_phase.hpp"
 
 namespace softflow {
 
 // Which limit set the time step (reported in the progress line).
-enum class DtLimit { advective, viscous, dt_max, end_time };
+enum class DtLimit { advective, viscous, elastic, dt_max, end_time };
 const char* to_string(DtLimit l);
 
 class FlowSolver {
@@ -24,9 +25,15 @@ class FlowSolver {
   Real stable_dt(DtLimit* which = nullptr);  // cfl times the smallest stability limit
   void advance(Real dt);        // one RK3 step: three stages, three projections
 
-  // fill x/z ghosts and the walls' ghosts of the velocity (and of p)
-  void fill_velocity_ghosts();
+  // fill x/z ghosts and the walls' ghosts of the velocity (walls at time t) and of p
+  void fill_velocity_ghosts(Real t);
+  void fill_velocity_ghosts() { fill_velocity_ghosts(time); }
   void fill_pressure_ghosts();
+  // +-V_w, or +-V_w cos(omega t) for oscillating walls
+  Real wall_velocity(Real t) const;
+  // the solid phase, or nullptr for a case without particles
+  SolidPhase* solid() { return solid_.get(); }
+  const SolidPhase* solid() const { return solid_.get(); }
 
   const Config& config() const { return cfg_; }
   const Decomposition& decomposition() const { return dec_; }
@@ -40,7 +47,7 @@ class FlowSolver {
   long step = 0;
 
  private:
-  void project(Real adt);
+  void project(Real adt, Real t_wall);
   Config cfg_;
   Decomposition dec_;
   Grid grid_;
@@ -49,6 +56,7 @@ class FlowSolver {
   Halo halo_;
   PoissonSolver poisson_;
   Manufactured mms_;
+  std::unique_ptr<SolidPhase> solid_;
 };
 
 }  // namespace softflow

@@ -17,9 +17,13 @@ class Halo {
   void exchange(std::initializer_list<Field3> fields);
   // bytes sent per exchange of one field (for the perf harness)
   size_t bytes_per_field() const;
+  MPI_Comm comm() const { return dec_.comm; }
+
+  // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
+  // private or protected member functions
+  void exchange_dir(int dir, const Field3* f, int nf);
 
  private:
-  void exchange_dir(int dir, const Field3* f, int nf);
   const Decomposition& dec_;
   Grid g_;
   int left_x_, right_x_, left_z_, right_z_;

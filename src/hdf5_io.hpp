@@ -32,8 +32,11 @@ class FieldFile {
   std::map<std::string, double> read(const std::string& path, const std::vector<H5Item>& items,
                                      const std::vector<std::string>& attribute_names);
 
- private:
+  // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
+  // private or protected member functions
   void stage_out(const H5Item& it);
+
+ private:
   const Decomposition& dec_;
   Grid g_;
   Kokkos::View<Real***, Kokkos::LayoutLeft, MemSpace> dev_;  // interior block

@@ -17,7 +17,7 @@ struct MpiBuffer {
       Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
 
   MpiBuffer() = default;
-  MpiBuffer(const char* label, size_t n) : dev(label, n) {
+  MpiBuffer(const char* label, size_t n) : dev(std::string(label), n) {
     if constexpr (!host_accessible) host = Kokkos::create_mirror_view(dev);
   }
   // pointer for MPI after the device side was written

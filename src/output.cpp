@@ -27,6 +27,7 @@ void check_output_dir(const std::string& dir) {
 namespace {
 const char* series_header =
     "step,time,strain,dt,kinetic_energy,max_div,max_speed,tau_bottom,tau_top,mu_eff\n";
+const char* solid_header = "solid_volume,phi_min,phi_max,detb_min,detb_max\n";
 
 std::string snapshot_name(long step) {
   std::ostringstream s;
@@ -38,6 +39,7 @@ std::string snapshot_name(long step) {
 Output::Output(FlowSolver& s, bool restarted)
     : s_(s), dir_(s.config().output.dir), file_(s.decomposition(), s.grid()) {
   series_ = series_header;
+  if (s.solid()) series_.back() = ',', series_ += solid_header;
   if (!restarted || !s.decomposition().is_root()) return;
   // keep what the interrupted run wrote up to the checkpoint's step
   std::ifstream in(dir_ + "/series.csv");
@@ -86,7 +88,11 @@ void Output::series_row(const FlowScalars& f, Real dt) {
   r << std::setprecision(10) << s_.step << "," << s_.time << ","
     << s_.time * s_.config().shear_rate() << "," << dt << "," << f.kinetic_energy << ","
     << f.max_div << "," << f.max_speed << "," << f.tau_bottom << "," << f.tau_top << ","
-    << f.mu_eff << "\n";
+    << f.mu_eff;
+  if (s_.solid())
+    r << "," << f.solid_volume << "," << f.phi_min << "," << f.phi_max << "," << f.detb_min << ","
+      << f.detb_max;
+  r << "\n";
   series_ += r.str();
   write_text("series.csv", series_);
 }
@@ -103,16 +109,25 @@ void Output::profiles(const FlowProfiles& p) {
   write_text("profiles.csv", s.str());
 }
 
+namespace {
+// the solid fields by name, for snapshots and checkpoints
+void add_solid(std::vector<H5Item>& items, const FlowSolver& s) {
+  if (!s.solid()) return;
+  const char* names[n_solid_fields] = {"phi", "Bxx", "Bxy", "Bxz", "Byy", "Byz", "Bzz"};
+  for (int m = 0; m < n_solid_fields; ++m) items.push_back({names[m], s.solid()->fields().q[m]});
+}
+}  // namespace
+
 void Output::snapshot() {
   auto& st = s_.state();
   const std::string name = snapshot_name(s_.step);
   const std::string path = dir_ + "/" + name;
-  file_.write(path + ".tmp",
-              {{"u", st.u, Sample::x_face_to_centre},
-               {"v", st.v, Sample::y_face_to_centre},
-               {"w", st.w, Sample::z_face_to_centre},
-               {"p", st.p, Sample::raw}},
-              {{"time", s_.time}, {"step", double(s_.step)}});
+  std::vector<H5Item> items = {{"u", st.u, Sample::x_face_to_centre},
+                               {"v", st.v, Sample::y_face_to_centre},
+                               {"w", st.w, Sample::z_face_to_centre},
+                               {"p", st.p, Sample::raw}};
+  add_solid(items, s_);
+  file_.write(path + ".tmp", items, {{"time", s_.time}, {"step", double(s_.step)}});
   commit_file(s_.decomposition(), path + ".tmp", path);
   if (snapshots_.empty() || snapshots_.back().first != s_.step) snapshots_.push_back({s_.step, s_.time});
   write_xdmf();
@@ -136,7 +151,10 @@ void Output::write_xdmf() {
       << g.dx / 2 << "</DataItem>\n"
       << "<DataItem Dimensions=\"3\" Format=\"XML\">" << g.dz << " " << g.dy << " " << g.dx
       << "</DataItem>\n</Geometry>\n";
-    for (const char* f : {"u", "v", "w", "p"}) {
+    std::vector<const char*> scalars = {"u", "v", "w", "p"};
+    if (s_.solid())
+      for (const char* f : {"phi", "Bxx", "Bxy", "Bxz", "Byy", "Byz", "Bzz"}) scalars.push_back(f);
+    for (const char* f : scalars) {
       x << "<Attribute Name=\"" << f << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
         << "<DataItem Dimensions=\"" << dims << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
         << file << ":/" << f << "</DataItem>\n</Attribute>\n";
@@ -156,7 +174,9 @@ void Output::checkpoint() {
   auto& st = s_.state();
   const std::string path = dir_ + "/checkpoint.h5";
   const Grid& g = s_.grid();
-  file_.write(path + ".tmp", {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}},
+  std::vector<H5Item> items = {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}};
+  add_solid(items, s_);
+  file_.write(path + ".tmp", items,
               {{"time", s_.time}, {"step", double(s_.step)}, {"nx", double(g.nx)},
                {"ny", double(g.ny)}, {"nz", double(g.nz)}});
   commit_file(s_.decomposition(), path + ".tmp", path);
@@ -165,11 +185,17 @@ void Output::checkpoint() {
 void Output::restart(FlowSolver& s, const std::string& path) {
   FieldFile f(s.decomposition(), s.grid());
   auto& st = s.state();
-  auto a = f.read(path, {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}}, {"time", "step"});
+  std::vector<H5Item> items = {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}};
+  add_solid(items, s);
+  auto a = f.read(path, items, {"time", "step"});
   s.time = a.at("time");
   s.step = long(a.at("step"));
   s.fill_velocity_ghosts();
   s.fill_pressure_ghosts();
+  if (s.solid()) {
+    s.solid()->fill_ghosts();
+    s.solid()->init_force();
+  }
 }
 
 }  // namespace softflow

@@ -6,7 +6,7 @@ namespace softflow {
 
 namespace {
 Array1 eigenvalues(const char* label, int n, Real d) {
-  Array1 lam(label, n);
+  Array1 lam(std::string(label), n);
   auto h = Kokkos::create_mirror_view(lam);
   for (int m = 0; m < n; ++m) {
     const int k = LineFft::wavenumber(m, n);

@@ -30,8 +30,11 @@ class PoissonSolver {
 
   Transposer& transposer() { return tr_; }
 
- private:
+  // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
+  // private or protected member functions
   void tridiagonal();
+
+ private:
   const Decomposition& dec_;
   Grid g_;
   Transposer tr_;

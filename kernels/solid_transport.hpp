@@ -1,0 +1,144 @@
+// Right-hand sides of the solid fields:
+//   d phi / dt = -div(u phi)
+//   d B / dt   = -div(u B) + L B + B L^T      (upper-convected derivative zero)
+// Advection in conservative flux form: each face flux is the MAC face
+// velocity times the upwind WENO5 value of the field at that face, so the
+// solid volume sum(phi) changes only through round-off (the fluxes telescope).
+// WENO5 over- and undershoots phi at the (one- or two-cell) interface by a
+// few percent; phi_bounded_redistribution() below clips them and gives the
+// clipped volume back to the interface cells, so phi stays in [0, 1] and the
+// solid volume stays conserved to round-off. Cells whose whole
+// stencil is fluid (phi below the cut-off) get a zero right-hand side: there
+// is nothing to transport and B is reset to I there anyway.
+#pragma once
+#include "flow_state.hpp"
+#include "solid_state.hpp"
+#include "velocity_gradient.hpp"
+#include "weno5.hpp"
+
+namespace softflow {
+
+constexpr Real phi_fluid_cut = 1e-6;  // below this a cell is fluid: B = I there
+
+KOKKOS_INLINE_FUNCTION Real weno_x(const Field3& q, Real vel, int i, int j, int k) {  // face i+1/2
+  return weno5_face(vel, q(i - 2, j, k), q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k),
+                    q(i + 3, j, k));
+}
+KOKKOS_INLINE_FUNCTION Real weno_y(const Field3& q, Real vel, int i, int j, int k) {  // face j+1/2
+  return weno5_face(vel, q(i, j - 2, k), q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k),
+                    q(i, j + 3, k));
+}
+KOKKOS_INLINE_FUNCTION Real weno_z(const Field3& q, Real vel, int i, int j, int k) {  // face k+1/2
+  return weno5_face(vel, q(i, j, k - 2), q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2),
+                    q(i, j, k + 3));
+}
+
+// -div(u q) at cell (i, j, k) with WENO5 face values
+KOKKOS_INLINE_FUNCTION Real advect_weno5(const Field3& q, const Field3& u, const Field3& v,
+                                         const Field3& w, int i, int j, int k, Real idx, Real idy,
+                                         Real idz) {
+  const Real fxp = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
+  const Real fxm = u(i - 1, j, k) * weno_x(q, u(i - 1, j, k), i - 1, j, k);
+  const Real fyp = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
+  const Real fym = v(i, j - 1, k) * weno_y(q, v(i, j - 1, k), i, j - 1, k);
+  const Real fzp = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
+  const Real fzm = w(i, j, k - 1) * weno_z(q, w(i, j, k - 1), i, j, k - 1);
+  return -((fxp - fxm) * idx + (fyp - fym) * idy + (fzp - fzm) * idz);
+}
+
+// true if phi is below the cut-off on the cell's whole WENO stencil
+KOKKOS_INLINE_FUNCTION bool fluid_stencil(const Field3& phi, int i, int j, int k) {
+  Real m = phi(i, j, k);
+  for (int d = 1; d <= 3; ++d) {
+    m = Kokkos::fmax(m, Kokkos::fmax(phi(i - d, j, k), phi(i + d, j, k)));
+    m = Kokkos::fmax(m, Kokkos::fmax(phi(i, j - d, k), phi(i, j + d, k)));
+    m = Kokkos::fmax(m, Kokkos::fmax(phi(i, j, k - d), phi(i, j, k + d)));
+  }
+  return m < phi_fluid_cut;
+}
+
+inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const SolidFields& f,
+                                const SolidFields& rhs) {
+  const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
+  auto u = flow.u, v = flow.v, w = flow.w;
+  const SolidViews q(f), r(rhs);
+  par_for("solid_transport_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+    if (fluid_stencil(q.phi, i, j, k)) {
+      for (int m = 0; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
+      return;
+    }
+    r.phi(i, j, k) = advect_weno5(q.phi, u, v, w, i, j, k, idx, idy, idz);
+    const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
+    Real B[6];
+    for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
+    const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
+    for (int m = 0; m < 6; ++m)
+      r.field(1 + m)(i, j, k) = advect_weno5(q.field(1 + m), u, v, w, i, j, k, idx, idy, idz) +
+                                upper_convected_source(L, B, a_of[m], b_of[m]);
+  });
+}
+
+// q += gdt * now + zdt * before for the seven fields; then B is reset to I
+// where phi < phi_fluid_cut: in pure fluid B has no meaning (its stress is
+// multiplied by phi) and, left alone in sheared fluid, would grow without
+// bound and leak into the interface through the WENO stencils.
+inline void solid_rk3_update(const Grid& g, const SolidFields& f, const SolidFields& now,
+                             const SolidFields& before, Real gdt, Real zdt) {
+  const SolidViews q(f), a(now), b(before);
+  par_for("solid_rk3_update", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+    for (int m = 0; m < n_solid_fields; ++m)
+      q.field(m)(i, j, k) += gdt * a.field(m)(i, j, k) + zdt * b.field(m)(i, j, k);
+    if (q.phi(i, j, k) < phi_fluid_cut) {
+      for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+    }
+  });
+}
+
+// Keeps phi in [0, 1] without losing solid volume. With c = clamp(phi, 0, 1),
+// e = sum(phi - c) (the clipped volume, over all ranks) and W = sum c (1 - c),
+// phi <- c + (e / W) c (1 - c). The added amount is largest mid-interface and
+// vanishes where c is 0 or 1, and c + a c (1 - c) stays in [0, 1] for
+// |a| <= 1, so the bounds hold exactly and the volume is conserved to
+// round-off whenever |e| <= W (always seen in practice; otherwise the rest of
+// e is dropped and the drift shows in the solid-volume diagnostic).
+template <class Reduce>
+inline void phi_bounded_redistribution(const Grid& g, const SolidFields& f, const Reduce& allreduce_sum) {
+  auto phi = f.phi();
+  Real sums[2] = {0, 0};
+  par_reduce(
+      "solid_phi_excess", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& e) {
+        const Real p = phi(i, j, k);
+        e += p - Kokkos::fmin(Real(1), Kokkos::fmax(Real(0), p));
+      },
+      Kokkos::Sum<Real>(sums[0]));
+  par_reduce(
+      "solid_phi_interface_weight", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& w) {
+        const Real c = Kokkos::fmin(Real(1), Kokkos::fmax(Real(0), phi(i, j, k)));
+        w += c * (1 - c);
+      },
+      Kokkos::Sum<Real>(sums[1]));
+  allreduce_sum(sums, 2);
+  const Real a = sums[1] > 0 ? Kokkos::fmax(Real(-1), Kokkos::fmin(Real(1), sums[0] / sums[1])) : Real(0);
+  par_for("solid_phi_redistribute", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+    const Real c = Kokkos::fmin(Real(1), Kokkos::fmax(Real(0), phi(i, j, k)));
+    phi(i, j, k) = c + a * c * (1 - c);
+  });
+}
+
+// Wall ghosts of the solid fields: even reflection (no flux through the wall,
+// and v = 0 there makes the wall flux vanish anyway). Whole x-z plane.
+inline void apply_solid_walls(const Grid& g, const SolidFields& f) {
+  const int ng = Grid::ng, ny = g.ny;
+  const SolidViews q(f);
+  par_for("walls_solid", Range3{0, g.sx(), 0, ng, 0, g.sz()}, KOKKOS_LAMBDA(int i, int m, int k) {
+    for (int c = 0; c < n_solid_fields; ++c) {
+      const Field3& a = q.field(c);
+      a(i, ng - 1 - m, k) = a(i, ng + m, k);
+      a(i, ng + ny + m, k) = a(i, ng + ny - 1 - m, k);
+    }
+  });
+}
+
+}  // namespace softflow

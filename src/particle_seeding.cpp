@@ -1,0 +1,82 @@
+// Random placement by relaxation: N centres are drawn uniformly in the region
+// allowed by the walls, then overlapping pairs (closer than the target
+// distance, with the minimum image in x and z) are pushed apart symmetrically,
+// sweep after sweep, while the target distance grows from 70% to 2r + gap over
+// the first sweeps (a gentle Lubachevsky-Stillinger-like growth), until none
+// overlap. Random sequential addition jams near Phi = 0.38 and
+// much earlier between walls; relaxation packs the reference Phi = 0.33 in a
+// few hundred sweeps.
+#include "particle_seeding.hpp"
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+namespace softflow {
+
+int sphere_count(const Config& c) {
+  const ParticleConfig& p = c.particles;
+  if (p.count > 0) return p.count;
+  const double v = c.grid.lx * c.grid.ly * c.grid.lz;
+  const double vs = 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius;
+  return std::max(1, int(std::lround(p.volume_fraction * v / vs)));
+}
+
+std::vector<Sphere> seed_spheres(const Config& c) {
+  const ParticleConfig& p = c.particles;
+  const double lx = c.grid.lx, lz = c.grid.lz, h = c.grid.ly / 2;
+  const double r = p.radius, dmin = 2 * r + p.min_gap;
+  const double ylim = h - r - p.min_gap;
+  const int n = sphere_count(c);
+  if (p.placement == "centre") return {{lx / 2, 0, lz / 2}};
+  auto fail = [&](const std::string& why) {
+    std::ostringstream s;
+    s << "cannot place " << n << " spheres of radius " << r << " with gap " << p.min_gap << " in the "
+      << lx << " x " << c.grid.ly << " x " << lz << " box (volume fraction "
+      << n * 4.0 / 3.0 * M_PI * r * r * r / (lx * c.grid.ly * lz) << "): " << why;
+    throw InputError(s.str());
+  };
+  if (dmin > lx || dmin > lz) fail("the box is narrower than two radii plus the gap");
+  // an upper bound no packing of hard spheres between walls can beat
+  const double occupied = n * (4.0 / 3.0) * M_PI * std::pow(dmin / 2, 3);
+  if (occupied > 0.55 * lx * (2 * ylim + dmin) * lz) fail("too dense for random placement (limit ~0.55)");
+
+  std::mt19937_64 gen(p.seed);
+  std::uniform_real_distribution<double> ux(0, lx), uy(-ylim, ylim), uz(0, lz);
+  std::vector<Sphere> s(n);
+  for (auto& q : s) q = {ux(gen), uy(gen), uz(gen)};
+  auto wrap = [](double x, double l) { return x - l * std::floor(x / l); };
+  const int grow = 2000;
+  for (int sweep = 0; sweep < 20000; ++sweep) {
+    const double target = dmin * (sweep < grow ? 0.7 + 0.3 * sweep / grow : 1.0);
+    int overlaps = 0;
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) {
+        double dx = s[b].x - s[a].x, dy = s[b].y - s[a].y, dz = s[b].z - s[a].z;
+        dx -= lx * std::round(dx / lx);
+        dz -= lz * std::round(dz / lz);
+        const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (d >= target) continue;
+        ++overlaps;
+        double ex = dx, ey = dy, ez = dz, dd = d;
+        if (dd < 1e-12) {  // coincident: push along a random direction
+          ex = ux(gen) - lx / 2, ey = uy(gen), ez = uz(gen) - lz / 2;
+          dd = std::sqrt(ex * ex + ey * ey + ez * ez);
+        }
+        // a little beyond the target, so that round-off does not leave pairs just short of it
+        const double push = 0.5 * (target * (1 + 1e-6) - d) / dd;
+        s[a].x -= ex * push, s[a].y -= ey * push, s[a].z -= ez * push;
+        s[b].x += ex * push, s[b].y += ey * push, s[b].z += ez * push;
+      }
+    for (auto& q : s) {
+      q.x = wrap(q.x, lx);
+      q.z = wrap(q.z, lz);
+      q.y = std::clamp(q.y, -ylim, ylim);
+    }
+    if (overlaps == 0 && sweep >= grow) return s;
+  }
+  fail("no overlap-free arrangement found in 20000 relaxation sweeps");
+  return {};
+}
+
+}  // namespace softflow

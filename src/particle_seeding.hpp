@@ -1,0 +1,21 @@
+// Where the particles start: N non-overlapping spheres at random positions
+// (periodic in x and z, clear of the walls), the same for every rank count.
+#pragma once
+#include <vector>
+
+#include "config.hpp"
+
+namespace softflow {
+
+struct Sphere {
+  double x, y, z;
+};
+
+// Number of spheres of the case: count, or round(Phi V_box / (4/3 pi r^3)).
+int sphere_count(const Config& cfg);
+
+// Deterministic from cfg.particles.seed. Throws InputError when the spheres
+// cannot be placed with the requested gap.
+std::vector<Sphere> seed_spheres(const Config& cfg);
+
+}  // namespace softflow

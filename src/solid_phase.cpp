@@ -1,0 +1,126 @@
+#include "solid_phase.hpp"
+
+#include <cmath>
+#include <utility>
+
+#include "../kernels/solid_transport.hpp"
+
+namespace softflow {
+
+SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
+    : cfg_(cfg),
+      g_(g),
+      halo_(halo),
+      q_(g, "solid"),
+      rhs_now_(g, "solid_rhs_now"),
+      rhs_before_(g, "solid_rhs_before"),
+      force_now_(g, "elastic_now"),
+      force_before_(g, "elastic_before") {
+  stress_.idx = 1 / g.dx;
+  stress_.idy = 1 / g.dy;
+  stress_.idz = 1 / g.dz;
+  stress_.nu_f = cfg.nu();
+  stress_.dnu = (cfg.solid_viscosity() - cfg.fluid.mu) / cfg.fluid.rho;
+  stress_.g_rho = cfg.shear_modulus() / cfg.fluid.rho;
+}
+
+Real SolidPhase::elastic_dt() const {
+  const Real c = std::sqrt(stress_.g_rho);
+  return 1 / (c * std::sqrt(stress_.idx * stress_.idx + stress_.idy * stress_.idy +
+                            stress_.idz * stress_.idz));
+}
+
+void SolidPhase::seed() {
+  const Grid g = g_;
+  const SolidViews q(q_);
+  const ParticleConfig& p = cfg_.particles;
+  if (p.shape == "layer") {
+    const Real half = p.layer_thickness / 2;
+    par_for("seed_layer", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      const Real lo = Kokkos::fmax(g.yc(j) - g.dy / 2, -half), hi = Kokkos::fmin(g.yc(j) + g.dy / 2, half);
+      q.phi(i, j, k) = Kokkos::fmax(Real(0), hi - lo) / g.dy;
+    });
+  } else {
+    spheres_ = seed_spheres(cfg_);
+    const int n = int(spheres_.size());
+    Kokkos::View<Real* [3], MemSpace> c("seed_centres", n);
+    auto ch = Kokkos::create_mirror_view(c);
+    for (int m = 0; m < n; ++m) {
+      ch(m, 0) = spheres_[m].x;
+      ch(m, 1) = spheres_[m].y;
+      ch(m, 2) = spheres_[m].z;
+    }
+    Kokkos::deep_copy(c, ch);
+    const Real r = p.radius, lx = g.lx, lz = g.lz;
+    const int ns = p.subsamples;
+    // half-diagonal of a cell: beyond r + hd a cell is outside, within r - hd inside
+    const Real hd = 0.5 * std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz);
+    par_for("seed_spheres", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
+      Real f = 0;
+      for (int m = 0; m < n; ++m) {
+        Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
+        dx -= lx * Kokkos::round(dx / lx);
+        dz -= lz * Kokkos::round(dz / lz);
+        const Real d = Kokkos::sqrt(dx * dx + dy * dy + dz * dz);
+        if (d >= r + hd) continue;
+        if (d <= r - hd) {
+          f += 1;
+          continue;
+        }
+        int in = 0;
+        for (int a = 0; a < ns; ++a)
+          for (int b = 0; b < ns; ++b)
+            for (int e = 0; e < ns; ++e) {
+              const Real sx = dx + g.dx * ((a + Real(0.5)) / ns - Real(0.5));
+              const Real sy = dy + g.dy * ((b + Real(0.5)) / ns - Real(0.5));
+              const Real sz = dz + g.dz * ((e + Real(0.5)) / ns - Real(0.5));
+              in += sx * sx + sy * sy + sz * sz < r * r;
+            }
+        f += Real(in) / (ns * ns * ns);
+      }
+      q.phi(i, j, k) = Kokkos::fmin(Real(1), f);
+    });
+  }
+  par_for("seed_identity", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+    q.b0(i, j, k) = 1;
+    q.b1(i, j, k) = 0;
+    q.b2(i, j, k) = 0;
+    q.b3(i, j, k) = 1;
+    q.b4(i, j, k) = 0;
+    q.b5(i, j, k) = 1;
+  });
+  fill_ghosts();
+}
+
+void SolidPhase::fill_ghosts() {
+  halo_.exchange({q_.q[0], q_.q[1], q_.q[2], q_.q[3], q_.q[4], q_.q[5], q_.q[6]});
+  apply_solid_walls(g_, q_);
+}
+
+void SolidPhase::elastic_force(const MomentumRhs& out) {
+  const MixtureStress st = stress_;
+  const SolidViews q(q_);
+  auto fu = out.u, fv = out.v, fw = out.w;
+  const int vtop = Grid::ng + g_.ny - 1;
+  par_for("solid_elastic_force", g_.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+    fu(i, j, k) = st.elastic_u(q, i, j, k);
+    fw(i, j, k) = st.elastic_w(q, i, j, k);
+    fv(i, j, k) = j < vtop ? st.elastic_v(q, i, j, k) : Real(0);
+  });
+}
+
+void SolidPhase::init_force() { elastic_force(force_before_); }
+
+void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
+  solid_transport_rhs(g_, flow, q_, rhs_now_);
+  solid_rk3_update(g_, q_, rhs_now_, rhs_before_, gdt, zdt);
+  phi_bounded_redistribution(g_, q_, [this](Real* x, int n) {
+    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm());
+  });
+  std::swap(rhs_now_, rhs_before_);
+  fill_ghosts();
+  elastic_force(force_now_);
+}
+
+}  // namespace softflow

@@ -1,0 +1,54 @@
+// The particles' phase of the one-continuum model: phi, B, their RK3
+// right-hand sides and the elastic force. Allocated only for cases with
+// [particles]; FlowSolver calls it inside each RK3 stage.
+#pragma once
+#include <vector>
+
+#include "../kernels/flow_state.hpp"
+#include "../kernels/mixture_stress.hpp"
+#include "../kernels/solid_state.hpp"
+#include "config.hpp"
+#include "halo.hpp"
+#include "particle_seeding.hpp"
+
+namespace softflow {
+
+class SolidPhase {
+ public:
+  SolidPhase(const Config& cfg, const Grid& g, Halo& halo);
+
+  // phi from the seeded spheres (or the layer) by sub-cell sampling; B = I
+  void seed();
+  void fill_ghosts();
+
+  // stage s, before the momentum update: advance phi and B from the velocity
+  // of the previous stage; then compute the new elastic force
+  void advance_stage(const FlowState& flow, Real gdt, Real zdt);
+  // the elastic force of the current phi, B into force_before() (start of a run or restart)
+  void init_force();
+  // the stage's elastic force: (E_now + E_before) / 2, to be multiplied by alpha dt
+  const MomentumRhs& force_now() const { return force_now_; }
+  const MomentumRhs& force_before() const { return force_before_; }
+  void end_stage() { std::swap(force_now_, force_before_); }
+
+  const SolidFields& fields() const { return q_; }
+  const MixtureStress& stress() const { return stress_; }
+  const std::vector<Sphere>& spheres() const { return spheres_; }
+  // dt limit of the explicit elastic waves (sqrt(G / rho))
+  Real elastic_dt() const;
+
+  // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
+  // private or protected member functions
+  void elastic_force(const MomentumRhs& out);
+
+ private:
+  const Config& cfg_;
+  Grid g_;
+  Halo& halo_;
+  SolidFields q_, rhs_now_, rhs_before_;
+  MomentumRhs force_now_, force_before_;
+  MixtureStress stress_;
+  std::vector<Sphere> spheres_;
+};
+
+}  // namespace softflow
