@@ -9,8 +9,12 @@
 // clipped volume back to the interface cells, so phi stays in [0, 1] and the
 // solid volume stays conserved to round-off. Cells whose whole
 // stencil is fluid (phi below the cut-off) get a zero right-hand side: there
-// is nothing to transport and B is reset to I there anyway.
+// is nothing to transport and B is reset to I there anyway. phi's own flux is
+// computed everywhere: a face next to such a cell can carry a tiny flux, and
+// skipping it would break the exact conservation of solid volume.
 #pragma once
+#include <functional>
+
 #include "flow_state.hpp"
 #include "solid_state.hpp"
 #include "velocity_gradient.hpp"
@@ -63,11 +67,11 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   auto u = flow.u, v = flow.v, w = flow.w;
   const SolidViews q(f), r(rhs);
   par_for("solid_transport_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+    r.phi(i, j, k) = advect_weno5(q.phi, u, v, w, i, j, k, idx, idy, idz);
     if (fluid_stencil(q.phi, i, j, k)) {
-      for (int m = 0; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
+      for (int m = 1; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
       return;
     }
-    r.phi(i, j, k) = advect_weno5(q.phi, u, v, w, i, j, k, idx, idy, idz);
     const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
     Real B[6];
     for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
@@ -101,8 +105,11 @@ inline void solid_rk3_update(const Grid& g, const SolidFields& f, const SolidFie
 // |a| <= 1, so the bounds hold exactly and the volume is conserved to
 // round-off whenever |e| <= W (always seen in practice; otherwise the rest of
 // e is dropped and the drift shows in the solid-volume diagnostic).
-template <class Reduce>
-inline void phi_bounded_redistribution(const Grid& g, const SolidFields& f, const Reduce& allreduce_sum) {
+// (allreduce_sum is a std::function, not a template parameter: nvcc rejects a
+// caller's local lambda type in the template arguments of a function that
+// holds extended lambdas)
+inline void phi_bounded_redistribution(const Grid& g, const SolidFields& f,
+                                       const std::function<void(Real*, int)>& allreduce_sum) {
   auto phi = f.phi();
   Real sums[2] = {0, 0};
   par_reduce(

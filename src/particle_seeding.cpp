@@ -8,6 +8,8 @@
 // few hundred sweeps.
 #include "particle_seeding.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <random>
 #include <sstream>

@@ -1,0 +1,45 @@
+// Particle identity for diagnostics: tracked centroids.
+//
+// Each particle keeps a centroid, replicated on every rank. A cell with
+// phi > 0 belongs to the particle whose centroid is nearest (minimum image
+// in x and z), within 2 radii. Near contact this splits two particles along
+// the plane between their centres instead of merging them (as connected
+// components of phi > 0.5 would), it does not care about periodic or rank
+// boundaries, and it costs one pass over the cells per update. update()
+// moves each centroid to the phi-weighted centre of its cells and measures
+// the second moments there, from which the ellipsoid axes follow: for a
+// uniform ellipsoid the covariance eigenvalues are a^2/5, b^2/5, c^2/5.
+// Updates must come often enough that no particle moves by more than about
+// a radius between them (the driver updates at every series row).
+#pragma once
+#include <vector>
+
+#include "flow_solver.hpp"
+
+namespace softflow {
+
+struct ParticleShape {
+  double x = 0, y = 0, z = 0;  // centroid
+  double volume = 0;           // sum of phi dV of its cells
+  double a = 0, b = 0, c = 0;  // semi-axes from the 3-D second moments, a >= b >= c
+  double a_xy = 0, b_xy = 0;   // semi-axes of the x-y section (the x-y block of the moments)
+  double taylor = 0;           // (a_xy - b_xy) / (a_xy + b_xy)
+  double angle = 0;            // inclination of the x-y major axis to x, radians
+};
+
+class ParticleTracker {
+ public:
+  ParticleTracker(FlowSolver& s, const std::vector<ParticleShape>& start);
+  // centroids from the seeded spheres
+  static std::vector<ParticleShape> from_spheres(const std::vector<Sphere>& s);
+  void update();
+  const std::vector<ParticleShape>& shapes() const { return shapes_; }
+
+ private:
+  FlowSolver& s_;
+  std::vector<ParticleShape> shapes_;
+  Kokkos::View<Real* [3], Kokkos::LayoutRight, MemSpace> centres_;
+  Kokkos::View<Real* [10], Kokkos::LayoutRight, MemSpace> moments_;  // row m contiguous
+};
+
+}  // namespace softflow
