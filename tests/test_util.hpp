@@ -91,3 +91,17 @@ inline void run_to(FlowSolver& s, double t_end, double dt_cap = 1e30) {
 }
 
 }  // namespace softflow::test
+
+namespace softflow::test {
+
+// number of interior cells, over all ranks, where two fields differ in any bit
+inline long count_differing(const Grid& g, const Field3& a, const Field3& b) {
+  long n = 0;
+  par_reduce(
+      "test_count_differing", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, long& c) { c += a(i, j, k) != b(i, j, k); },
+      Kokkos::Sum<long>(n));
+  return long(global_sum(double(n)));
+}
+
+}  // namespace softflow::test

@@ -68,6 +68,32 @@ struct Smooth {
 };
 }  // namespace
 
+namespace {
+// Device loops of the tests below live outside the TEST bodies: nvcc forbids
+// extended (KOKKOS_LAMBDA) lambdas in gtest's private TestBody.
+void fill_smooth(const Grid& g, const SolidViews& qv, const Smooth& f) {
+  par_for("test_fill_smooth", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+    for (int m = 0; m < n_solid_fields; ++m) qv.field(m)(i, j, k) = f.value(m, g.xc(i), g.yc(j), g.zc(k));
+  });
+}
+double transport_error(const Grid& g, const Field3& r, const Smooth& f, int m, const Uniform& vel) {
+  return max_error(g, r, KOKKOS_LAMBDA(int i, int j, int k) {
+    return -f.grad_dot(m, g.xc(i), g.yc(j), g.zc(k), vel.U, vel.V, vel.W);
+  });
+}
+// f_0 carried by the uniform velocity for a time t
+void fill_advected(const Grid& g, const Field3& phi, const Smooth& f, const Uniform& vel, double t) {
+  par_for("test_fill_phi", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+    phi(i, j, k) = f.value(0, g.xc(i) - vel.U * t, g.yc(j), g.zc(k) - vel.W * t);
+  });
+}
+double advected_error(const Grid& g, const Field3& phi, const Smooth& f, const Uniform& vel, double t) {
+  return max_error(g, phi, KOKKOS_LAMBDA(int i, int j, int k) {
+    return f.value(0, g.xc(i) - vel.U * t, g.yc(j), g.zc(k) - vel.W * t);
+  });
+}
+}  // namespace
+
 TEST(Weno5, TransportOperatorIsFifthOrderInAllDirections) {
   const Uniform vel{1.0, 0.7, -0.4};
   std::vector<double> hs, errs;
@@ -79,15 +105,11 @@ TEST(Weno5, TransportOperatorIsFifthOrderInAllDirections) {
     set_velocity(s, vel, 0);
     SolidFields q(g, "q"), r(g, "r");
     const SolidViews qv(q);
-    par_for("test_fill_smooth", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
-      for (int m = 0; m < n_solid_fields; ++m) qv.field(m)(i, j, k) = f.value(m, g.xc(i), g.yc(j), g.zc(k));
-    });
+    fill_smooth(g, qv, f);
     solid_transport_rhs(g, s.state(), q, r);
     double e = 0;
     for (int m = 0; m < n_solid_fields; ++m) {
-      e = std::max(e, max_error(g, r.q[m], KOKKOS_LAMBDA(int i, int j, int k) {
-        return -f.grad_dot(m, g.xc(i), g.yc(j), g.zc(k), vel.U, vel.V, vel.W);
-      }));
+      e = std::max(e, transport_error(g, r.q[m], f, m, vel));
     }
     hs.push_back(g.dx);
     errs.push_back(e);
@@ -109,19 +131,12 @@ TEST(Weno5, AdvectionInTimeIsFifthOrderWithDtLikeDxToFiveThirds) {
     const Grid g = s.grid();
     const Smooth f{2 * M_PI, 0.0, 0.0};
     const SolidViews q(s.solid()->fields());
-    auto init = [&](double t) {
-      par_for("test_fill_phi", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
-        q.phi(i, j, k) = f.value(0, g.xc(i) - vel.U * t, g.yc(j), g.zc(k) - vel.W * t);
-      });
-    };
-    init(0);
+    fill_advected(g, q.phi, f, vel, 0);
     s.solid()->fill_ghosts();
     const double T = 1.0;  // one period
     const int steps = int(std::ceil(T / (0.5 * std::pow(g.dx, 5.0 / 3.0))));
     for (int k = 0; k < steps; ++k) transport_step(s, vel, T / steps);
-    const double e = max_error(g, q.phi, KOKKOS_LAMBDA(int i, int j, int k) {
-      return f.value(0, g.xc(i) - vel.U * T, g.yc(j), g.zc(k) - vel.W * T);
-    });
+    const double e = advected_error(g, q.phi, f, vel, T);
     hs.push_back(g.dx);
     errs.push_back(e);
     if (world_rank() == 0) std::printf("  n = %d  steps %d  max error %.3e\n", n, steps, e);
