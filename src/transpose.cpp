@@ -2,141 +2,94 @@
 
 namespace softflow {
 
+namespace {
+
+// Moves one pencil orientation into another among the p ranks of `comm`:
+// element from(q, m) of src goes to element to(q', m) of dst on peer q, where
+// q' is this rank's place in comm, for every flat block index m < blk. With
+// p = 1 it is a local permutation and MPI is skipped.
+template <class From, class To>
+void move(const char* pack_label, const char* unpack_label, const Array1& src, const Array1& dst,
+          MpiBuffer& send, MpiBuffer& recv, MPI_Comm comm, int p, long blk, From from, To to) {
+  using Range = Kokkos::RangePolicy<ExecSpace>;
+  if (p == 1) {
+    Kokkos::parallel_for(pack_label, Range(0, blk), KOKKOS_LAMBDA(long m) { dst(to(0, m)) = src(from(0, m)); });
+    return;
+  }
+  auto s = send.dev;
+  Kokkos::parallel_for(pack_label, Range(0, p * blk), KOKKOS_LAMBDA(long t) { s(t) = src(from(int(t / blk), t % blk)); });
+  MPI_Alltoall(send.send_ptr(), int(blk), MPI_DOUBLE, recv.recv_ptr(), int(blk), MPI_DOUBLE, comm);
+  recv.received();
+  auto r = recv.dev;
+  Kokkos::parallel_for(unpack_label, Range(0, p * blk), KOKKOS_LAMBDA(long t) { dst(to(int(t / blk), t % blk)) = r(t); });
+}
+
+}  // namespace
+
 Transposer::Transposer(const Decomposition& dec) : dec_(dec) {
   send_ = MpiBuffer("transpose_send", y_size());
   recv_ = MpiBuffer("transpose_recv", y_size());
 }
 
-void Transposer::alltoall(MPI_Comm comm, int p, size_t n) {
-  const int blk = int(n / p);
-  MPI_Alltoall(send_.send_ptr(), blk, MPI_DOUBLE, recv_.recv_ptr(), blk, MPI_DOUBLE, comm);
-  recv_.received();
-}
-
-// Block for peer q (y <-> x): i < nxl, jj < ny_x, k < nzl, flat m = i + nxl*(jj + ny_x*k).
-void Transposer::y_to_x(const Array1& y, const Array1& x) {
-  const int ny = dec_.ny, nx = dec_.nx, nxl = dec_.nxl, nyx = dec_.ny_x, nzl = dec_.nzl;
-  const int p = dec_.px;
-  const long blk = long(nxl) * nyx * nzl;
-  if (p == 1) {
-    Kokkos::parallel_for("transpose_y_to_x", Kokkos::RangePolicy<ExecSpace>(0, blk),
-                         KOKKOS_LAMBDA(long m) {
-                           const int i = m % nx, j = (m / nx) % ny, k = m / (long(nx) * ny);
-                           x(m) = y(j + ny * (i + long(nxl) * k));
-                         });
-    return;
+// The block exchanged with peer q (y <-> x, inside xcomm): i < nxl, jj < ny_x,
+// k < nzl, flat m = i + nxl * (jj + ny_x * k); y-pencil rows q * ny_x + jj,
+// x-pencil columns q * nxl + i.
+struct YxBlock {
+  int ny, nx, nxl, nyx;
+  KOKKOS_INLINE_FUNCTION long y(int q, long m) const {
+    const int i = m % nxl, jj = (m / nxl) % nyx;
+    const long k = m / (long(nxl) * nyx);
+    return q * nyx + jj + ny * (i + nxl * k);
   }
-  auto s = send_.dev;
-  Kokkos::parallel_for("transpose_pack_y_to_x", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyx, k = m / (long(nxl) * nyx);
-                         s(t) = y(q * nyx + jj + ny * (i + long(nxl) * k));
-                       });
-  alltoall(dec_.xcomm, p, p * blk);
-  auto r = recv_.dev;
-  Kokkos::parallel_for("transpose_unpack_y_to_x", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyx, k = m / (long(nxl) * nyx);
-                         x(q * nxl + i + nx * (jj + long(nyx) * k)) = r(t);
-                       });
+  KOKKOS_INLINE_FUNCTION long x(int q, long m) const {
+    const int i = m % nxl, jj = (m / nxl) % nyx;
+    const long k = m / (long(nxl) * nyx);
+    return q * nxl + i + nx * (jj + nyx * k);
+  }
+};
+
+// The block exchanged with peer q (y <-> z, inside zcomm): i < nxl, jj < ny_z,
+// k < nzl; y-pencil rows q * ny_z + jj, z-pencil lines q * nzl + k.
+struct YzBlock {
+  int ny, nz, nxl, nyz, nzl;
+  KOKKOS_INLINE_FUNCTION long y(int q, long m) const {
+    const int i = m % nxl, jj = (m / nxl) % nyz;
+    const long k = m / (long(nxl) * nyz);
+    return q * nyz + jj + ny * (i + nxl * k);
+  }
+  KOKKOS_INLINE_FUNCTION long z(int q, long m) const {
+    const int i = m % nxl, jj = (m / nxl) % nyz;
+    const long k = m / (long(nxl) * nyz);
+    return q * nzl + k + nz * (i + long(nxl) * jj);
+  }
+};
+
+void Transposer::y_to_x(const Array1& y, const Array1& x) {
+  const YxBlock b{dec_.ny, dec_.nx, dec_.nxl, dec_.ny_x};
+  move("transpose_pack_y_to_x", "transpose_unpack_y_to_x", y, x, send_, recv_, dec_.xcomm, dec_.px,
+       long(dec_.nxl) * dec_.ny_x * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); },
+       KOKKOS_LAMBDA(int q, long m) { return b.x(q, m); });
 }
 
 void Transposer::x_to_y(const Array1& x, const Array1& y) {
-  const int ny = dec_.ny, nx = dec_.nx, nxl = dec_.nxl, nyx = dec_.ny_x, nzl = dec_.nzl;
-  const int p = dec_.px;
-  const long blk = long(nxl) * nyx * nzl;
-  if (p == 1) {
-    Kokkos::parallel_for("transpose_x_to_y", Kokkos::RangePolicy<ExecSpace>(0, blk),
-                         KOKKOS_LAMBDA(long m) {
-                           const int j = m % ny, i = (m / ny) % nx, k = m / (long(nx) * ny);
-                           y(m) = x(i + nx * (j + long(ny) * k));
-                         });
-    return;
-  }
-  auto s = send_.dev;
-  Kokkos::parallel_for("transpose_pack_x_to_y", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyx, k = m / (long(nxl) * nyx);
-                         s(t) = x(q * nxl + i + nx * (jj + long(nyx) * k));
-                       });
-  alltoall(dec_.xcomm, p, p * blk);
-  auto r = recv_.dev;
-  Kokkos::parallel_for("transpose_unpack_x_to_y", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyx, k = m / (long(nxl) * nyx);
-                         y(q * nyx + jj + ny * (i + long(nxl) * k)) = r(t);
-                       });
+  const YxBlock b{dec_.ny, dec_.nx, dec_.nxl, dec_.ny_x};
+  move("transpose_pack_x_to_y", "transpose_unpack_x_to_y", x, y, send_, recv_, dec_.xcomm, dec_.px,
+       long(dec_.nxl) * dec_.ny_x * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.x(q, m); },
+       KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); });
 }
 
-// Block for peer q (y <-> z): i < nxl, jj < ny_z, k < nzl, flat m = i + nxl*(jj + ny_z*k).
 void Transposer::y_to_z(const Array1& y, const Array1& z) {
-  const int ny = dec_.ny, nz = dec_.nz, nxl = dec_.nxl, nyz = dec_.ny_z, nzl = dec_.nzl;
-  const int p = dec_.pz;
-  const long blk = long(nxl) * nyz * nzl;
-  if (p == 1) {
-    Kokkos::parallel_for("transpose_y_to_z", Kokkos::RangePolicy<ExecSpace>(0, blk),
-                         KOKKOS_LAMBDA(long m) {
-                           const int k = m % nz, i = (m / nz) % nxl, j = m / (long(nz) * nxl);
-                           z(m) = y(j + ny * (i + long(nxl) * k));
-                         });
-    return;
-  }
-  auto s = send_.dev;
-  Kokkos::parallel_for("transpose_pack_y_to_z", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyz, k = m / (long(nxl) * nyz);
-                         s(t) = y(q * nyz + jj + ny * (i + long(nxl) * k));
-                       });
-  alltoall(dec_.zcomm, p, p * blk);
-  auto r = recv_.dev;
-  Kokkos::parallel_for("transpose_unpack_y_to_z", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyz, k = m / (long(nxl) * nyz);
-                         z(q * nzl + k + nz * (i + long(nxl) * jj)) = r(t);
-                       });
+  const YzBlock b{dec_.ny, dec_.nz, dec_.nxl, dec_.ny_z, dec_.nzl};
+  move("transpose_pack_y_to_z", "transpose_unpack_y_to_z", y, z, send_, recv_, dec_.zcomm, dec_.pz,
+       long(dec_.nxl) * dec_.ny_z * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); },
+       KOKKOS_LAMBDA(int q, long m) { return b.z(q, m); });
 }
 
 void Transposer::z_to_y(const Array1& z, const Array1& y) {
-  const int ny = dec_.ny, nz = dec_.nz, nxl = dec_.nxl, nyz = dec_.ny_z, nzl = dec_.nzl;
-  const int p = dec_.pz;
-  const long blk = long(nxl) * nyz * nzl;
-  if (p == 1) {
-    Kokkos::parallel_for("transpose_z_to_y", Kokkos::RangePolicy<ExecSpace>(0, blk),
-                         KOKKOS_LAMBDA(long m) {
-                           const int j = m % ny, i = (m / ny) % nxl, k = m / (long(ny) * nxl);
-                           y(m) = z(k + nz * (i + long(nxl) * j));
-                         });
-    return;
-  }
-  auto s = send_.dev;
-  Kokkos::parallel_for("transpose_pack_z_to_y", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyz, k = m / (long(nxl) * nyz);
-                         s(t) = z(q * nzl + k + nz * (i + long(nxl) * jj));
-                       });
-  alltoall(dec_.zcomm, p, p * blk);
-  auto r = recv_.dev;
-  Kokkos::parallel_for("transpose_unpack_z_to_y", Kokkos::RangePolicy<ExecSpace>(0, p * blk),
-                       KOKKOS_LAMBDA(long t) {
-                         const int q = t / blk;
-                         const long m = t % blk;
-                         const int i = m % nxl, jj = (m / nxl) % nyz, k = m / (long(nxl) * nyz);
-                         y(q * nyz + jj + ny * (i + long(nxl) * k)) = r(t);
-                       });
+  const YzBlock b{dec_.ny, dec_.nz, dec_.nxl, dec_.ny_z, dec_.nzl};
+  move("transpose_pack_z_to_y", "transpose_unpack_z_to_y", z, y, send_, recv_, dec_.zcomm, dec_.pz,
+       long(dec_.nxl) * dec_.ny_z * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.z(q, m); },
+       KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); });
 }
 
 }  // namespace softflow

@@ -28,7 +28,6 @@ class Transposer {
   size_t bytes_z() const { return dec_.pz > 1 ? y_size() * sizeof(Real) : 0; }
 
  private:
-  void alltoall(MPI_Comm comm, int p, size_t n);
   const Decomposition& dec_;
   MpiBuffer send_, recv_;
 };
