@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "types.hpp"
+#include "real.hpp"  // not types.hpp: config.cpp must compile without Kokkos
 
 namespace softflow {
 

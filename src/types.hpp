@@ -4,9 +4,10 @@
 #pragma once
 #include <Kokkos_Core.hpp>
 
+#include "real.hpp"
+
 namespace softflow {
 
-using Real = double;
 using ExecSpace = Kokkos::DefaultExecutionSpace;
 using MemSpace = ExecSpace::memory_space;
 
