@@ -15,12 +15,6 @@ using namespace softflow::test;
 namespace fs = std::filesystem;
 
 namespace {
-std::string read_text(const std::string& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 Config suspension(const std::string& dir, std::vector<std::string> extra = {}) {
   std::vector<std::string> o = {"output.dir=\"" + dir + "\"", "output.progress_every=0",
                                 "output.series_every=5", "output.fields_every=0",

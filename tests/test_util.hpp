@@ -3,6 +3,8 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -102,6 +104,18 @@ inline long count_differing(const Grid& g, const Field3& a, const Field3& b) {
       KOKKOS_LAMBDA(int i, int j, int k, long& c) { c += a(i, j, k) != b(i, j, k); },
       Kokkos::Sum<long>(n));
   return long(global_sum(double(n)));
+}
+
+}  // namespace softflow::test
+
+namespace softflow::test {
+
+// a whole text file ("" if missing)
+inline std::string read_text(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
 }
 
 }  // namespace softflow::test
