@@ -22,8 +22,8 @@ std::string hms(double s) {
   return b;
 }
 
-void write_summary(const FlowSolver& s, const Output& out, const FlowScalars& f,
-                   const RunResult& r, const std::string& dir) {
+void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r,
+                   const std::string& dir) {
   if (!s.decomposition().is_root()) return;
   const Config& c = s.config();
   nlohmann::json j;
@@ -40,6 +40,17 @@ void write_summary(const FlowSolver& s, const Output& out, const FlowScalars& f,
   j["final"] = {{"step", s.step}, {"time", s.time}, {"strain", s.time * c.shear_rate()},
                 {"kinetic_energy", f.kinetic_energy}, {"max_div", f.max_div},
                 {"tau_bottom", f.tau_bottom}, {"tau_top", f.tau_top}, {"mu_eff", f.mu_eff}};
+  if (s.solid()) {
+    j["case"]["particles"] = {{"count", s.solid()->spheres().size()},
+                              {"radius", c.particles.radius},
+                              {"capillary", c.particles.capillary > 0 ? c.particles.capillary
+                                                                      : c.fluid.mu * c.shear_rate() / c.shear_modulus()},
+                              {"shear_modulus", c.shear_modulus()},
+                              {"viscosity_ratio", c.particles.viscosity_ratio}};
+    j["final"]["solid_volume"] = f.solid_volume;
+    j["final"]["phi_range"] = {f.phi_min, f.phi_max};
+    j["final"]["detb_range"] = {f.detb_min, f.detb_max};
+  }
   const double cs = double(s.grid().cells_global()) * r.steps / std::max(r.wall_seconds, 1e-30);
   j["performance"] = {{"steps", r.steps}, {"wall_seconds", r.wall_seconds},
                       {"cell_steps_per_second", cs}};
@@ -49,7 +60,6 @@ void write_summary(const FlowSolver& s, const Output& out, const FlowScalars& f,
     o << j.dump(2) << "\n";
   }
   std::rename((path + ".tmp").c_str(), path.c_str());
-  (void)out;
 }
 
 }  // namespace
@@ -133,7 +143,7 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
   out.snapshot();
   out.checkpoint();
   out.profiles(diag.profiles());
-  write_summary(solver, out, f, res, oc.dir);
+  write_summary(solver, f, res, oc.dir);
   if (root) {
     log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
         << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff
