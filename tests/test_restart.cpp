@@ -2,7 +2,6 @@
 // uninterrupted run, and its time series continues without a seam.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -12,7 +11,6 @@
 
 using namespace softflow;
 using namespace softflow::test;
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -29,13 +27,7 @@ Config restart_case(const std::string& dir, std::vector<std::string> extra = {})
 TEST(Restart, BitIdenticalToUninterruptedRun) {
   const std::string tag = "np" + std::to_string(world_size());
   const std::string a = "restart_full_" + tag, b = "restart_split_" + tag;
-  if (world_rank() == 0) {
-    fs::remove_all(a);
-    fs::remove_all(b);
-    fs::create_directories(a);
-    fs::create_directories(b);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  fresh_dirs({a, b});
   std::ostringstream log;
   RunResult full = run_case(restart_case(a), MPI_COMM_WORLD, log);
   RunResult first = run_case(restart_case(b, {"time.max_steps=20"}), MPI_COMM_WORLD, log);
@@ -74,11 +66,7 @@ TEST(Restart, BitIdenticalToUninterruptedRun) {
 
 TEST(Restart, CheckpointOfAnotherGridIsRejected) {
   const std::string dir = "restart_grid_np" + std::to_string(world_size());
-  if (world_rank() == 0) {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  fresh_dirs({dir});
   std::ostringstream log;
   run_case(restart_case(dir, {"time.max_steps=2"}), MPI_COMM_WORLD, log);
   Config c = couette_case(24, 12, 12, {"output.dir=" + dir, "output.progress_every=0"});

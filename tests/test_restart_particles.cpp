@@ -2,7 +2,6 @@
 // restored so that the restarted run ends bit-identical to an uninterrupted one.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -12,7 +11,6 @@
 
 using namespace softflow;
 using namespace softflow::test;
-namespace fs = std::filesystem;
 
 namespace {
 Config suspension(const std::string& dir, std::vector<std::string> extra = {}) {
@@ -29,13 +27,7 @@ Config suspension(const std::string& dir, std::vector<std::string> extra = {}) {
 TEST(RestartParticles, SuspensionRestartIsBitIdentical) {
   const std::string tag = "np" + std::to_string(world_size());
   const std::string a = "restart_susp_full_" + tag, b = "restart_susp_split_" + tag;
-  if (world_rank() == 0) {
-    fs::remove_all(a);
-    fs::remove_all(b);
-    fs::create_directories(a);
-    fs::create_directories(b);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  fresh_dirs({a, b});
   std::ostringstream log;
   RunResult full = run_case(suspension(a), MPI_COMM_WORLD, log);
   run_case(suspension(b, {"time.max_steps=5"}), MPI_COMM_WORLD, log);

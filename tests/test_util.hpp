@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -116,6 +117,20 @@ inline std::string read_text(const std::string& path) {
   std::stringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+}  // namespace softflow::test
+
+namespace softflow::test {
+
+// empty output folders, made by rank 0 before any rank writes
+inline void fresh_dirs(const std::vector<std::string>& dirs) {
+  if (world_rank() == 0)
+    for (const auto& d : dirs) {
+      std::filesystem::remove_all(d);
+      std::filesystem::create_directories(d);
+    }
+  MPI_Barrier(MPI_COMM_WORLD);
 }
 
 }  // namespace softflow::test
