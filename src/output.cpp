@@ -38,18 +38,26 @@ std::string snapshot_name(long step) {
 
 Output::Output(FlowSolver& s, bool restarted)
     : s_(s), dir_(s.config().output.dir), file_(s.decomposition(), s.grid()) {
-  series_ = series_header;
-  if (s.solid()) series_.back() = ',', series_ += solid_header;
-  if (!restarted || !s.decomposition().is_root()) return;
-  // keep what the interrupted run wrote up to the checkpoint's step
-  std::ifstream in(dir_ + "/series.csv");
-  std::string line;
-  if (in && std::getline(in, line)) {
-    while (std::getline(in, line)) {
-      long st = std::atol(line.c_str());
-      if (st <= s.step) series_ += line + "\n";
+  if (!s.decomposition().is_root()) return;
+  std::string series = series_header;
+  if (s.solid()) series.back() = ',', series += solid_header;
+  if (restarted) {
+    // keep what the interrupted run wrote up to the checkpoint's step
+    std::ifstream in(dir_ + "/series.csv");
+    std::string line;
+    if (in && std::getline(in, line)) {
+      while (std::getline(in, line)) {
+        long st = std::atol(line.c_str());
+        if (st <= s.step) series += line + "\n";
+      }
     }
   }
+  // the header (and kept rows) replace the file whole; rows are then appended
+  // and flushed one by one, so an interruption loses at most the row being written
+  write_text("series.csv", series);
+  series_file_.open(dir_ + "/series.csv", std::ios::app);
+  if (!series_file_) throw std::runtime_error("cannot append to '" + dir_ + "/series.csv'");
+  if (!restarted) return;
   std::regex pat(R"(fields_(\d{8})\.h5)");
   for (const auto& e : fs::directory_iterator(dir_)) {
     std::smatch m;
@@ -93,8 +101,7 @@ void Output::series_row(const FlowScalars& f, Real dt) {
     r << "," << f.solid_volume << "," << f.phi_min << "," << f.phi_max << "," << f.detb_min << ","
       << f.detb_max;
   r << "\n";
-  series_ += r.str();
-  write_text("series.csv", series_);
+  series_file_ << r.str() << std::flush;
 }
 
 void Output::profiles(const FlowProfiles& p) {

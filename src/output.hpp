@@ -5,7 +5,8 @@
 //                       listing them for ParaView
 //   checkpoint.h5       the raw staggered state for restarts
 //   summary.json        case, code version, final diagnostics, timings
-// Every file is written under a temporary name and renamed when complete.
+// Every file is written under a temporary name and renamed when complete,
+// except series.csv, which is appended to one flushed row at a time.
 #pragma once
 #include <fstream>
 #include <string>
@@ -34,7 +35,7 @@ class Output {
   std::string dir_;
   FieldFile file_;
   std::vector<std::pair<long, Real>> snapshots_;  // (step, time)
-  std::string series_;                              // the CSV so far (rank 0)
+  std::ofstream series_file_;                       // series.csv, appended (rank 0)
 };
 
 // Checks the output folder can be created and written; throws InputError.
