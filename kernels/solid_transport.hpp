@@ -10,8 +10,10 @@
 // solid volume stays conserved to round-off. Cells whose whole
 // stencil is fluid (phi below the cut-off) get a zero right-hand side: there
 // is nothing to transport and B is reset to I there anyway. phi's own flux is
-// computed everywhere: a face next to such a cell can carry a tiny flux, and
-// skipping it would break the exact conservation of solid volume.
+// computed wherever phi is not exactly zero on the stencil: a face next to
+// such a cell can carry a tiny flux, and skipping it would break the exact
+// conservation of solid volume. Cells with phi == 0 on the whole stencil
+// (most of a dilute case) skip everything.
 #pragma once
 #include <functional>
 
@@ -50,15 +52,15 @@ KOKKOS_INLINE_FUNCTION Real advect_weno5(const Field3& q, const Field3& u, const
   return -((fxp - fxm) * idx + (fyp - fym) * idy + (fzp - fzm) * idz);
 }
 
-// true if phi is below the cut-off on the cell's whole WENO stencil
-KOKKOS_INLINE_FUNCTION bool fluid_stencil(const Field3& phi, int i, int j, int k) {
+// the largest phi on the cell's WENO stencil (the cell and 3 neighbours each way)
+KOKKOS_INLINE_FUNCTION Real stencil_max(const Field3& phi, int i, int j, int k) {
   Real m = phi(i, j, k);
   for (int d = 1; d <= 3; ++d) {
     m = Kokkos::fmax(m, Kokkos::fmax(phi(i - d, j, k), phi(i + d, j, k)));
     m = Kokkos::fmax(m, Kokkos::fmax(phi(i, j - d, k), phi(i, j + d, k)));
     m = Kokkos::fmax(m, Kokkos::fmax(phi(i, j, k - d), phi(i, j, k + d)));
   }
-  return m < phi_fluid_cut;
+  return m;
 }
 
 inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const SolidFields& f,
@@ -67,8 +69,11 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   auto u = flow.u, v = flow.v, w = flow.w;
   const SolidViews q(f), r(rhs);
   par_for("solid_transport_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    r.phi(i, j, k) = advect_weno5(q.phi, u, v, w, i, j, k, idx, idy, idz);
-    if (fluid_stencil(q.phi, i, j, k)) {
+    const Real smax = stencil_max(q.phi, i, j, k);
+    // phi == 0 on the whole stencil: every face flux of this cell is exactly
+    // zero (WENO5 of zeros is zero), so skipping keeps exact conservation
+    r.phi(i, j, k) = smax > 0 ? advect_weno5(q.phi, u, v, w, i, j, k, idx, idy, idz) : Real(0);
+    if (smax < phi_fluid_cut) {
       for (int m = 1; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
       return;
     }
