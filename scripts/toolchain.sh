@@ -21,6 +21,9 @@ PACKAGES=(g++ cmake ninja-build make libopenmpi-dev openmpi-bin libhdf5-openmpi-
   hdf5-tools libfftw3-dev libfftw3-mpi-dev libgtest-dev libbenchmark-dev
   libtomlplusplus-dev nlohmann-json3-dev python3-matplotlib python3-h5py python3-numpy
   pkgconf git ca-certificates)
+# the version measured to work (glibc and libstdc++ of trixie); if the archive
+# no longer serves it, whatever unstable has now is taken instead
+KOKKOS_VERSION=5.2.2-2
 KOKKOS_DEBS=(libkokkos5.2 libkokkos-dev)
 
 log() { echo "[toolchain] $*" >&2; }
@@ -64,7 +67,7 @@ in_root() {
 setup_root() {
   local r=$SOFTFLOW_ROOT
   # the stamp names the package set, so adding a package re-runs only apt
-  local stamp="$r/.softflow-ready-$(echo "${PACKAGES[*]} ${KOKKOS_DEBS[*]}" | md5sum | cut -c1-12)"
+  local stamp="$r/.softflow-ready-$(echo "${PACKAGES[*]} ${KOKKOS_DEBS[*]} $KOKKOS_VERSION" | md5sum | cut -c1-12)"
   if [ -f "$stamp" ]; then
     log "using the root at $r"
     return
@@ -94,7 +97,9 @@ setup_root() {
        -o Dir::State::Lists=/tmp/sid/lists -o Acquire::Check-Valid-Until=false \
        -o APT::Sandbox::User=root'
     apt-get \$o update -qq
-    cd /tmp/sid/debs && apt-get \$o download ${KOKKOS_DEBS[*]} >/dev/null
+    cd /tmp/sid/debs
+    apt-get \$o download ${KOKKOS_DEBS[*]/%/=$KOKKOS_VERSION} >/dev/null 2>&1 ||
+      { rm -f ./*.deb; apt-get \$o download ${KOKKOS_DEBS[*]} >/dev/null; }
     dpkg --force-depends -i /tmp/sid/debs/*.deb >/dev/null
     rm -rf /tmp/sid"
   # Packaging bug in libkokkos-dev 5.2.2: its CMake export names two archives
