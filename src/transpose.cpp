@@ -31,62 +31,57 @@ Transposer::Transposer(const Decomposition& dec) : dec_(dec) {
   recv_ = MpiBuffer("transpose_recv", y_size());
 }
 
-// The block exchanged with peer q (y <-> x, inside xcomm): i < nxl, jj < ny_x,
-// k < nzl, flat m = i + nxl * (jj + ny_x * k); y-pencil rows q * ny_x + jj,
-// x-pencil columns q * nxl + i.
-struct YxBlock {
-  int ny, nx, nxl, nyx;
+// The block exchanged with peer q: i < nxl, jj < nyb, k < nzl, flat
+// m = i + nxl * (jj + nyb * k), where nyb is the y rows each peer holds in
+// the target pencil (ny_x inside xcomm, ny_z inside zcomm). Its place in the
+// y-pencil is row q * nyb + jj, in the x-pencil column q * nxl + i, in the
+// z-pencil line q * nzl + k.
+struct PencilBlock {
+  int ny, nxl, nyb, nzl, n_other;  // n_other: nx for x-pencils, nz for z-pencils
+  struct Index {
+    int i, jj;
+    long k;
+  };
+  KOKKOS_INLINE_FUNCTION Index at(long m) const {
+    return {int(m % nxl), int((m / nxl) % nyb), m / (long(nxl) * nyb)};
+  }
   KOKKOS_INLINE_FUNCTION long y(int q, long m) const {
-    const int i = m % nxl, jj = (m / nxl) % nyx;
-    const long k = m / (long(nxl) * nyx);
-    return q * nyx + jj + ny * (i + nxl * k);
+    const Index a = at(m);
+    return q * nyb + a.jj + ny * (a.i + nxl * a.k);
   }
   KOKKOS_INLINE_FUNCTION long x(int q, long m) const {
-    const int i = m % nxl, jj = (m / nxl) % nyx;
-    const long k = m / (long(nxl) * nyx);
-    return q * nxl + i + nx * (jj + nyx * k);
-  }
-};
-
-// The block exchanged with peer q (y <-> z, inside zcomm): i < nxl, jj < ny_z,
-// k < nzl; y-pencil rows q * ny_z + jj, z-pencil lines q * nzl + k.
-struct YzBlock {
-  int ny, nz, nxl, nyz, nzl;
-  KOKKOS_INLINE_FUNCTION long y(int q, long m) const {
-    const int i = m % nxl, jj = (m / nxl) % nyz;
-    const long k = m / (long(nxl) * nyz);
-    return q * nyz + jj + ny * (i + nxl * k);
+    const Index a = at(m);
+    return q * nxl + a.i + n_other * (a.jj + nyb * a.k);
   }
   KOKKOS_INLINE_FUNCTION long z(int q, long m) const {
-    const int i = m % nxl, jj = (m / nxl) % nyz;
-    const long k = m / (long(nxl) * nyz);
-    return q * nzl + k + nz * (i + long(nxl) * jj);
+    const Index a = at(m);
+    return q * nzl + a.k + n_other * (a.i + long(nxl) * a.jj);
   }
 };
 
 void Transposer::y_to_x(const Array1& y, const Array1& x) {
-  const YxBlock b{dec_.ny, dec_.nx, dec_.nxl, dec_.ny_x};
+  const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_x, dec_.nzl, dec_.nx};
   move("transpose_pack_y_to_x", "transpose_unpack_y_to_x", y, x, send_, recv_, dec_.xcomm, dec_.px,
        long(dec_.nxl) * dec_.ny_x * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); },
        KOKKOS_LAMBDA(int q, long m) { return b.x(q, m); });
 }
 
 void Transposer::x_to_y(const Array1& x, const Array1& y) {
-  const YxBlock b{dec_.ny, dec_.nx, dec_.nxl, dec_.ny_x};
+  const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_x, dec_.nzl, dec_.nx};
   move("transpose_pack_x_to_y", "transpose_unpack_x_to_y", x, y, send_, recv_, dec_.xcomm, dec_.px,
        long(dec_.nxl) * dec_.ny_x * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.x(q, m); },
        KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); });
 }
 
 void Transposer::y_to_z(const Array1& y, const Array1& z) {
-  const YzBlock b{dec_.ny, dec_.nz, dec_.nxl, dec_.ny_z, dec_.nzl};
+  const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_z, dec_.nzl, dec_.nz};
   move("transpose_pack_y_to_z", "transpose_unpack_y_to_z", y, z, send_, recv_, dec_.zcomm, dec_.pz,
        long(dec_.nxl) * dec_.ny_z * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); },
        KOKKOS_LAMBDA(int q, long m) { return b.z(q, m); });
 }
 
 void Transposer::z_to_y(const Array1& z, const Array1& y) {
-  const YzBlock b{dec_.ny, dec_.nz, dec_.nxl, dec_.ny_z, dec_.nzl};
+  const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_z, dec_.nzl, dec_.nz};
   move("transpose_pack_z_to_y", "transpose_unpack_z_to_y", z, y, send_, recv_, dec_.zcomm, dec_.pz,
        long(dec_.nxl) * dec_.ny_z * dec_.nzl, KOKKOS_LAMBDA(int q, long m) { return b.z(q, m); },
        KOKKOS_LAMBDA(int q, long m) { return b.y(q, m); });
