@@ -25,6 +25,7 @@ struct Manufactured {
     Real ut, vt, wt;              // time derivatives
     Real ux, uy, uz, vx, vy, vz, wx, wy, wz;  // gradient
     Real lu, lv, lw;              // Laplacians
+    Real p;                       // pressure
     Real px, py, pz;              // pressure gradient
   };
 
@@ -60,6 +61,7 @@ struct Manufactured {
     q.lu = -k2 * u1 - A * f3 * sx * cz / (2 * a);
     q.lv = -k2 * q.v + A * f2 * cx * cz;
     q.lw = -k2 * q.w - A * f3 * cx * sz / (2 * c);
+    q.p = A * g * cx * sz;
     q.px = -a * A * g * sx * sz;
     q.py = A * g1 * cx * sz;
     q.pz = c * A * g * cx * cz;

@@ -31,11 +31,11 @@ inline void poisson_to_field(const Grid& g, const Array1& sol, const Field3& p) 
   });
 }
 
-// u -= alpha dt grad(phi) on the interior unknowns (p's ghosts must be set)
-inline void correct_velocity(const Grid& g, const FlowState& s, Real adt) {
+// u -= alpha dt grad(phi) on the interior unknowns (phi's ghosts must be set)
+inline void correct_velocity(const Grid& g, const FlowState& s, const Field3& p, Real adt) {
   const Real cx = adt / g.dx, cy = adt / g.dy, cz = adt / g.dz;
   const int vtop = Grid::ng + g.ny - 1;
-  auto u = s.u, v = s.v, w = s.w, p = s.p;
+  auto u = s.u, v = s.v, w = s.w;
   par_for("projection_correct", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
     const Real pc = p(i, j, k);
     u(i, j, k) -= cx * (p(i + 1, j, k) - pc);

@@ -178,6 +178,9 @@ Config parse_config(const std::string& text, const std::string& name,
     r.read("cfl", c.time.cfl, false);
     r.read("dt_max", c.time.dt_max, false);
     r.read("max_steps", c.time.max_steps, false);
+    r.read("viscous", c.time.viscous, false);
+    if (c.time.viscous != "explicit" && c.time.viscous != "implicit")
+      throw InputError("'time.viscous' must be \"explicit\" or \"implicit\" (got \"" + c.time.viscous + "\")");
     r.positive("cfl", c.time.cfl);
     if (c.time.cfl > 1) throw InputError("'time.cfl' must be at most 1 (it scales the stability limits)");
     r.positive("dt_max", c.time.dt_max);

@@ -53,6 +53,11 @@ struct TimeConfig {
   Real cfl = 0.9;        // safety factor on the advective and viscous limits
   Real dt_max = 1e30;    // upper bound on the time step
   long max_steps = 0;    // stop after this many steps (0: no limit)
+  // "explicit": viscosity in the RK3 right-hand side (viscous time-step limit);
+  // "implicit": Crank-Nicolson across each stage with a constant-coefficient
+  // Helmholtz solve (no viscous limit; see kernels/implicit_viscous.hpp)
+  std::string viscous = "explicit";
+  bool implicit_viscous() const { return viscous == "implicit"; }
 };
 
 struct InitialConfig {

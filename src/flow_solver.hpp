@@ -24,6 +24,9 @@ class FlowSolver {
   void initialize();            // from cfg.initial, then project
   Real stable_dt(DtLimit* which = nullptr);  // cfl times the smallest stability limit
   void advance(Real dt);        // one RK3 step: three stages, three projections
+  bool implicit_viscous() const { return implicit_; }
+  // the constant kinematic viscosity taken implicitly: max(mu_f, mu_s) / rho
+  Real implicit_nu() const { return nu0_; }
 
   // fill x/z ghosts and the walls' ghosts of the velocity (walls at time t) and of p
   void fill_velocity_ghosts(Real t);
@@ -47,7 +50,10 @@ class FlowSolver {
   long step = 0;
 
  private:
+  void explicit_stage(int s, Real dt);
+  void implicit_stage(int s, Real dt);
   void project(Real adt, Real t_wall);
+  void project_incremental(Real adt, Real beta, Real t_wall);
   Config cfg_;
   Decomposition dec_;
   Grid grid_;
@@ -57,6 +63,12 @@ class FlowSolver {
   PoissonSolver poisson_;
   Manufactured mms_;
   std::unique_ptr<SolidPhase> solid_;
+  // implicit viscosity only: the Helmholtz right-hand sides (y-pencil order)
+  // and the pressure increment of the incremental projection
+  bool implicit_ = false;
+  Real nu0_ = 0;
+  Array1 helm_u_, helm_v_, helm_w_;
+  Field3 dp_;
 };
 
 }  // namespace softflow

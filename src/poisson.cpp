@@ -30,50 +30,61 @@ PoissonSolver::PoissonSolver(const Decomposition& dec, const Grid& g)
       fft_x_(g.nx, long(dec.ny_x) * dec.nzl, x_),
       fft_z_(g.nz, long(dec.nxl) * dec.ny_z, z_) {}
 
-void PoissonSolver::solve() {
-  tr_.y_to_x(y_, x_);
+void PoissonSolver::solve(const Array1& y, const LineOperator& op) {
+  tr_.y_to_x(y, x_);
   fft_x_.forward();
-  tr_.x_to_y(x_, y_);
-  tr_.y_to_z(y_, z_);
+  tr_.x_to_y(x_, y);
+  tr_.y_to_z(y, z_);
   fft_z_.forward();
-  tr_.z_to_y(z_, y_);
-  tridiagonal();
-  tr_.y_to_z(y_, z_);
+  tr_.z_to_y(z_, y);
+  tridiagonal(y, op);
+  tr_.y_to_z(y, z_);
   fft_z_.backward();
-  tr_.z_to_y(z_, y_);
-  tr_.y_to_x(y_, x_);
+  tr_.z_to_y(z_, y);
+  tr_.y_to_x(y, x_);
   fft_x_.backward();
-  tr_.x_to_y(x_, y_);
+  tr_.x_to_y(x_, y);
 }
 
 // One Thomas sweep per (kx, kz) line; the 1/(nx nz) of the two unnormalised
-// backward FFTs is folded into the right-hand side here.
-void PoissonSolver::tridiagonal() {
+// backward FFTs is folded into the right-hand side here. Row j reads
+//   lo_j x[j-1] + (identity + laplacian (lam + dyy_j)) x[j] + up_j x[j+1] = r[j]
+// with lo = up = laplacian / dy^2 and dyy_j the y part of the diagonal.
+void PoissonSolver::tridiagonal(const Array1& y, const LineOperator& op) {
   const int ny = g_.ny, nxl = dec_.nxl, x0 = dec_.x0, z0 = dec_.z0;
   const Real idy2 = 1 / (g_.dy * g_.dy);
   const Real scale = Real(1) / (Real(g_.nx) * g_.nz);
-  auto y = y_, cp = scratch_, lamx = lamx_, lamz = lamz_;
+  const Real id = op.identity, lap = op.laplacian, off = lap * idy2;
+  const WallRows walls = op.walls;
+  // only the pure Neumann Laplacian is singular (constant mode)
+  const bool pin = walls == WallRows::neumann && id == 0;
+  auto cp = scratch_, lamx = lamx_, lamz = lamz_;
   const long lines = long(dec_.nxl) * dec_.nzl;
   Kokkos::parallel_for(
       "poisson_tridiagonal", Kokkos::RangePolicy<ExecSpace>(0, lines), KOKKOS_LAMBDA(long l) {
         const int i = l % nxl, k = l / nxl;
-        const bool singular = (x0 + i == 0) && (z0 + k == 0);
+        const bool singular = pin && (x0 + i == 0) && (z0 + k == 0);
         const Real lam = lamx(x0 + i) + lamz(z0 + k);
         const long b0 = l * ny;
-        // row j: idy2 p[j-1] + (diag_j + lam) p[j] + idy2 p[j+1] = r[j]
-        auto diag = [&](int j) {
-          return (j == 0 || j == ny - 1 ? -idy2 : -2 * idy2) + lam;
+        const bool face = walls == WallRows::dirichlet_face;
+        auto dyy = [&](int j) {
+          if (j == 0 || j == ny - 1) {
+            if (walls == WallRows::neumann) return -idy2;
+            if (walls == WallRows::dirichlet_centre) return -3 * idy2;
+          }
+          return -2 * idy2;
         };
-        Real b = singular ? Real(1) : diag(0);
-        Real c = singular ? Real(0) : idy2;
-        Real d = singular ? Real(0) : y(b0) * scale;
-        cp(b0) = c / b;
-        y(b0) = d / b;
+        auto diag = [&](int j) { return (face && j == ny - 1) ? Real(1) : id + lap * (lam + dyy(j)); };
+        auto lower = [&](int j) { return (face && j == ny - 1) ? Real(0) : off; };
+        auto upper = [&](int j) { return (j == ny - 1 || (face && j == ny - 2)) ? Real(0) : off; };
+        auto rhs = [&](int j) { return (face && j == ny - 1) ? Real(0) : y(b0 + j) * scale; };
+        const Real b = singular ? Real(1) : diag(0);
+        cp(b0) = singular ? Real(0) : upper(0) / b;
+        y(b0) = singular ? Real(0) : rhs(0) / b;
         for (int j = 1; j < ny; ++j) {
-          const Real cj = j < ny - 1 ? idy2 : Real(0);
-          const Real den = diag(j) - idy2 * cp(b0 + j - 1);
-          cp(b0 + j) = cj / den;
-          y(b0 + j) = (y(b0 + j) * scale - idy2 * y(b0 + j - 1)) / den;
+          const Real den = diag(j) - lower(j) * cp(b0 + j - 1);
+          cp(b0 + j) = upper(j) / den;
+          y(b0 + j) = (rhs(j) - lower(j) * y(b0 + j - 1)) / den;
         }
         for (int j = ny - 2; j >= 0; --j) y(b0 + j) -= cp(b0 + j) * y(b0 + j + 1);
       });

@@ -4,6 +4,10 @@
 // operator's eigenvalues (2 cos(2 pi k / n) - 2) / d^2, so the projected
 // velocity is divergence-free to round-off.
 //
+// The same machinery solves the Helmholtz problems of the implicit viscous
+// step, (I - beta L) u = r, for each velocity component with its own wall rows
+// (LineOperator below).
+//
 // Set-up (constructor): work arrays, FFT plans, eigenvalues. Apply (solve):
 // transposes, FFTs and the tridiagonal sweeps, allocation-free.
 #pragma once
@@ -11,6 +15,21 @@
 #include "transpose.hpp"
 
 namespace softflow {
+
+// How the first and last rows in y close the 7-point Laplacian:
+//  - neumann: cell-centred unknown, zero normal gradient (pressure);
+//  - dirichlet_centre: cell-centred unknown with its wall value carried by the
+//    right-hand side (u and w: ghost = 2 u_wall - u_first, diagonal -3 / dy^2);
+//  - dirichlet_face: face unknowns between the walls (v: ny - 1 of them; the
+//    wall faces hold 0, and the last row, the top wall's face, returns 0).
+enum class WallRows { neumann, dirichlet_centre, dirichlet_face };
+
+// The operator (identity I + laplacian L) solved per line.
+struct LineOperator {
+  Real identity = 0;
+  Real laplacian = 1;
+  WallRows walls = WallRows::neumann;
+};
 
 class PoissonSolver {
  public:
@@ -26,13 +45,15 @@ class PoissonSolver {
   // Solves L p = rhs. The wavenumber-(0,0) mode is pinned by p = 0 in the
   // first cell of its line, so the rhs must have zero mean (it does for a
   // divergence); the solution's mean is then arbitrary.
-  void solve();
+  void solve() { solve(y_, LineOperator{}); }
+  // Solves (identity + laplacian L) x = y in place, for any array laid out like rhs()
+  void solve(const Array1& y, const LineOperator& op);
 
   Transposer& transposer() { return tr_; }
 
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
   // private or protected member functions
-  void tridiagonal();
+  void tridiagonal(const Array1& y, const LineOperator& op);
 
  private:
   const Decomposition& dec_;

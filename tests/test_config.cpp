@@ -75,6 +75,8 @@ TEST(Config, MissingKeysAreNamed) {
 
 TEST(Config, NonPositiveValuesAreRejected) {
   expect_error(error_of(good, {"fluid.mu=-1"}), "'fluid.mu' must be positive (got -1)");
+  expect_error(error_of(good, {"time.viscous=\"implict\""}),
+               "'time.viscous' must be \"explicit\" or \"implicit\" (got \"implict\")");
   expect_error(error_of(good, {"grid.lx=0"}), "'grid.lx' must be positive");
   expect_error(error_of(good, {"grid.nz=-4"}), "'grid.nz' must be positive");
   expect_error(error_of(good, {"fluid.rho=0"}), "'fluid.rho' must be positive");

@@ -9,10 +9,11 @@ using namespace softflow::test;
 
 namespace {
 
-Config case_for(int px, int pz, int nranks) {
+Config case_for(int px, int pz, int nranks, const std::string& scheme) {
   return couette_case(24, 16, 12,
                       {"initial.type=manufactured", "initial.amplitude=2.0", "fluid.mu=0.05",
-                       "parallel.px=" + std::to_string(px), "parallel.pz=" + std::to_string(pz)},
+                       "parallel.px=" + std::to_string(px), "parallel.pz=" + std::to_string(pz),
+                       "time.viscous=\"" + scheme + "\""},
                       nranks);
 }
 
@@ -37,16 +38,19 @@ double block_diff(const FlowSolver& par, const Field3& a, const Field3& serial) 
 
 }  // namespace
 
-TEST(Decomposition, SameFieldsOnEveryRankGrid) {
+class RankGrids : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RankGrids, SameFieldsOnEveryRankGrid) {
+  const std::string scheme = GetParam();
   const int n = world_size();
   if (n == 1) GTEST_SKIP() << "needs more than one rank";
   std::vector<std::pair<int, int>> grids = {{n, 1}, {1, n}};
   if (n == 4) grids.push_back({2, 2});
-  Config cs = case_for(1, 1, 1);
+  Config cs = case_for(1, 1, 1, scheme);
   FlowSolver serial(cs, MPI_COMM_SELF);
   run_steps(serial, 12);
   for (auto [px, pz] : grids) {
-    Config c = case_for(px, pz, n);
+    Config c = case_for(px, pz, n, scheme);
     FlowSolver par(c, MPI_COMM_WORLD);
     run_steps(par, 12);
     EXPECT_EQ(par.step, serial.step);
@@ -57,19 +61,22 @@ TEST(Decomposition, SameFieldsOnEveryRankGrid) {
     for (auto f : {&FlowState::u, &FlowState::v, &FlowState::w, &FlowState::p})
       worst = std::max(worst, block_diff(par, a.*f, b.*f));
     worst = global_max(worst);
-    if (world_rank() == 0) std::printf("  %d x %d ranks: max difference to 1 rank %.3e\n", px, pz, worst);
+    if (world_rank() == 0)
+      std::printf("  %s viscosity, %d x %d ranks: max difference to 1 rank %.3e\n", scheme.c_str(), px, pz, worst);
     EXPECT_LT(worst, 1e-12) << px << " x " << pz;
   }
 }
 
-TEST(Decomposition, SameSuspensionOnEveryRankGrid) {
+TEST_P(RankGrids, SameSuspensionOnEveryRankGrid) {
+  const std::string scheme = GetParam();
   // a dense suspension: WENO5 transport, mixture stress, elastic force and
   // the global phi redistribution must not depend on the decomposition
   const int n = world_size();
   if (n == 1) GTEST_SKIP() << "needs more than one rank";
   const std::string file = std::string(SOFTFLOW_SOURCE_DIR) + "/cases/hard/phi033_ca2.toml";
   auto make = [&](int px, int pz, int ranks) {
-    Config c = load_config(file, {"parallel.px=" + std::to_string(px), "parallel.pz=" + std::to_string(pz)});
+    Config c = load_config(file, {"parallel.px=" + std::to_string(px), "parallel.pz=" + std::to_string(pz),
+                                  "time.viscous=\"" + scheme + "\""});
     resolve_rank_grid(c, ranks);
     return c;
   };
@@ -87,7 +94,11 @@ TEST(Decomposition, SameSuspensionOnEveryRankGrid) {
     for (int m = 0; m < n_solid_fields; ++m)
       worst = std::max(worst, block_diff(par, par.solid()->fields().q[m], serial.solid()->fields().q[m]));
     worst = global_max(worst);
-    if (world_rank() == 0) std::printf("  suspension, %d x %d ranks: max difference to 1 rank %.3e\n", px, pz, worst);
+    if (world_rank() == 0)
+      std::printf("  suspension, %s viscosity, %d x %d ranks: max difference to 1 rank %.3e\n", scheme.c_str(), px, pz,
+                  worst);
     EXPECT_LT(worst, 1e-12) << px << " x " << pz;
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Viscous, RankGrids, ::testing::Values("explicit", "implicit"));

@@ -132,7 +132,7 @@ TEST(Projection, LeavesVelocityDivergenceFreeToRoundOff) {
   s.poisson().solve();
   poisson_to_field(g, s.poisson().rhs(), s.state().p);
   s.fill_pressure_ghosts();
-  correct_velocity(g, s.state(), 1.0);
+  correct_velocity(g, s.state(), s.state().p, 1.0);
   s.fill_velocity_ghosts();
   double div = 0, umax = 0;
   local_div_and_speed(g, s.state(), div, umax);

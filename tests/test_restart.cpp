@@ -24,21 +24,25 @@ Config restart_case(const std::string& dir, std::vector<std::string> extra = {})
 
 }  // namespace
 
-TEST(Restart, BitIdenticalToUninterruptedRun) {
-  const std::string tag = "np" + std::to_string(world_size());
+class Restart : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(Restart, BitIdenticalToUninterruptedRun) {
+  const std::string scheme = GetParam();
+  const std::string tag = scheme + "_np" + std::to_string(world_size());
   const std::string a = "restart_full_" + tag, b = "restart_split_" + tag;
+  const std::string visc = "time.viscous=\"" + scheme + "\"";
   fresh_dirs({a, b});
   std::ostringstream log;
-  RunResult full = run_case(restart_case(a), MPI_COMM_WORLD, log);
-  RunResult first = run_case(restart_case(b, {"time.max_steps=20"}), MPI_COMM_WORLD, log);
+  RunResult full = run_case(restart_case(a, {visc}), MPI_COMM_WORLD, log);
+  RunResult first = run_case(restart_case(b, {visc, "time.max_steps=20"}), MPI_COMM_WORLD, log);
   EXPECT_EQ(first.steps, 20);
-  Config c = restart_case(b);
+  Config c = restart_case(b, {visc});
   c.restart = b + "/checkpoint.h5";
   RunResult second = run_case(c, MPI_COMM_WORLD, log);
   EXPECT_EQ(first.steps + second.steps, full.steps);
 
   // compare the two final checkpoints bit for bit
-  Config probe = restart_case(a);
+  Config probe = restart_case(a, {visc});
   FlowSolver s(probe, MPI_COMM_WORLD);
   FieldFile f(s.decomposition(), s.grid());
   const Grid g = s.grid();
@@ -64,7 +68,9 @@ TEST(Restart, BitIdenticalToUninterruptedRun) {
   }
 }
 
-TEST(Restart, CheckpointOfAnotherGridIsRejected) {
+INSTANTIATE_TEST_SUITE_P(Viscous, Restart, ::testing::Values("explicit", "implicit"));
+
+TEST(RestartInput, CheckpointOfAnotherGridIsRejected) {
   const std::string dir = "restart_grid_np" + std::to_string(world_size());
   fresh_dirs({dir});
   std::ostringstream log;

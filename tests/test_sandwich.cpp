@@ -46,13 +46,13 @@ struct Sandwich {
 };
 
 // max error of the plane-averaged u over y, at four phases of the fifth period
-double sandwich_error(int ny) {
+double sandwich_error(int ny, const std::string& scheme) {
   const Sandwich ex;
   Config c = couette_case(4, ny, 4,
                           {"grid.lx=1.0", "grid.lz=1.0", "walls.velocity=1.0",
                            "walls.omega=" + std::to_string(ex.omega), "particles.shape=layer",
                            "particles.layer_thickness=1.0", "particles.shear_modulus=4.0",
-                           "particles.viscosity_ratio=1.0"});
+                           "particles.viscosity_ratio=1.0", "time.viscous=\"" + scheme + "\""});
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   double e = 0;
@@ -79,15 +79,21 @@ TEST(Sandwich, ExactSolutionIsConsistent) {
   EXPECT_NEAR(ut, ex.mu_f / ex.rho * uyy, 1e-4 * std::abs(ut) + 1e-6);
 }
 
-TEST(Sandwich, MatchesTheExactPeriodicSolutionAndConverges) {
+class SandwichScheme : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SandwichScheme, MatchesTheExactPeriodicSolutionAndConverges) {
   std::vector<double> hs, errs;
   for (int ny : {32, 64}) {
-    errs.push_back(sandwich_error(ny));
+    errs.push_back(sandwich_error(ny, GetParam()));
     hs.push_back(2.0 / ny);
-    if (world_rank() == 0) std::printf("  ny = %d  max |u - u_exact| / V = %.3e\n", ny, errs.back());
+    if (world_rank() == 0) std::printf("  %s, ny = %d  max |u - u_exact| / V = %.3e\n", GetParam(), ny, errs.back());
   }
   const double q = std::log(errs[0] / errs[1]) / std::log(2.0);
   if (world_rank() == 0) std::printf("  observed order %.2f\n", q);
+  // the interface cell's mixture viscosity and elastic stress are first-order
+  // accurate in space (measured: explicit 3.7e-3 -> 1.5e-3, order 1.3)
   EXPECT_LT(errs.back(), 0.02);
   EXPECT_GT(q, 0.9);
 }
+
+INSTANTIATE_TEST_SUITE_P(Viscous, SandwichScheme, ::testing::Values("explicit", "implicit"));

@@ -9,21 +9,26 @@
 using namespace softflow;
 using namespace softflow::test;
 
-class HardCase : public ::testing::TestWithParam<const char*> {};
+// (case, viscous scheme): 40 explicit steps (strain 0.005-0.05), or the
+// implicit scheme to strain 0.4 (10-40 steps), at K = 0.01 and K = 10 among others
+class HardCase : public ::testing::TestWithParam<std::tuple<const char*, const char*>> {};
 
 TEST_P(HardCase, ShortRunStaysFiniteBoundedAndConservative) {
-  const std::string file = std::string(SOFTFLOW_SOURCE_DIR) + "/cases/hard/" + GetParam() + ".toml";
-  Config c = load_config(file, {"output.dir=\"stability-output\""});
+  const auto [name, scheme] = GetParam();
+  const std::string file = std::string(SOFTFLOW_SOURCE_DIR) + "/cases/hard/" + name + ".toml";
+  Config c = load_config(file, {"output.dir=\"stability-output\"", "time.viscous=\"" + std::string(scheme) + "\""});
   resolve_rank_grid(c, world_size());
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   Diagnostics d(s);
   const FlowScalars f0 = d.scalars();
+  const bool implicit = std::string(scheme) == "implicit";
   const int steps = 40;
+  const double strain = 0.4;
   double worst_detb = 0;
-  for (int n = 0; n < steps; ++n) {
+  for (int n = 0; implicit ? s.time * c.shear_rate() < strain : n < steps; ++n) {
     s.advance(s.stable_dt());
-    if (n % 10 == 9) {
+    if (n % 10 == 9 || implicit) {
       FlowScalars f = d.scalars();
       ASSERT_TRUE(std::isfinite(f.kinetic_energy)) << "step " << s.step;
       worst_detb = std::max({worst_detb, std::abs(f.detb_min - 1), std::abs(f.detb_max - 1)});
@@ -31,9 +36,9 @@ TEST_P(HardCase, ShortRunStaysFiniteBoundedAndConservative) {
   }
   const FlowScalars f = d.scalars();
   if (world_rank() == 0)
-    std::printf("  %s: %ld steps to strain %.3f, mu_eff %.3f, phi in [%g, %g], |det B - 1| <= %.2e, "
+    std::printf("  %s, %s viscosity: %ld steps to strain %.3f, mu_eff %.3f, phi in [%g, %g], |det B - 1| <= %.2e, "
                 "volume drift %.1e\n",
-                GetParam(), s.step, s.time * c.shear_rate(), f.mu_eff, f.phi_min, f.phi_max, worst_detb,
+                name, scheme, s.step, s.time * c.shear_rate(), f.mu_eff, f.phi_min, f.phi_max, worst_detb,
                 f.solid_volume / f0.solid_volume - 1);
   EXPECT_TRUE(std::isfinite(f.mu_eff));
   // phi is kept in [0, 1] exactly by the conservative redistribution
@@ -42,12 +47,17 @@ TEST_P(HardCase, ShortRunStaysFiniteBoundedAndConservative) {
   // the flux form conserves solid volume to round-off
   EXPECT_NEAR(f.solid_volume / f0.solid_volume, 1.0, 1e-12);
   // det B = 1 in an incompressible solid; at 4 points per radius the
-  // discrete transport keeps it within 5% over these steps (measured < 1%)
-  EXPECT_LT(worst_detb, 0.05);
+  // discrete transport keeps it within 5% over the 40 explicit steps
+  // (measured < 0.1%). Over strain 0.4 the drift is larger whatever the step:
+  // phi033_ca2 with the implicit scheme reaches 1.5% at dt = 0.01 and 1.9% at
+  // dt = 0.058 at strain 0.4, plus up to 5% in the impulsive first step at
+  // the large dt (measured 1.1-5.2% over the four cases): bound 10%.
+  EXPECT_LT(worst_detb, implicit ? 0.10 : 0.05);
   // the projection keeps the velocity divergence-free
   EXPECT_LT(f.max_div * std::min({s.grid().dx, s.grid().dy, s.grid().dz}) / f.max_speed, 1e-12);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, HardCase,
-                         ::testing::Values("phi033_ca002", "phi011_ca02_k001", "phi011_ca02_k10",
-                                           "phi033_ca2"));
+                         ::testing::Combine(::testing::Values("phi033_ca002", "phi011_ca02_k001",
+                                                              "phi011_ca02_k10", "phi033_ca2"),
+                                            ::testing::Values("explicit", "implicit")));
