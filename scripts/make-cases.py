@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes cases/<name>.toml for every row of the reference case set
-(../shared/spec/cases.csv, or the CSV given as argument) at the reference
+(cases/reference.csv, a copy of the spec's cases.csv, or the CSV given as argument) at the reference
 resolution: 16 points per radius, box 16r x 10r x 16r (256 x 160 x 256).
 Lengths in r, time in 1/gamma, rho = 1, V_w = h = 5 so gamma = 1, and
 mu_f = rho gamma r^2 / Re.
@@ -10,7 +10,7 @@ import os
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
-src = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "..", "shared", "spec", "cases.csv")
+src = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "cases", "reference.csv")
 out = os.path.join(here, "..", "cases")
 
 TEMPLATE = """# Reference case {name}: Phi = {Phi}, Ca = {Ca}, K = {K}, Re = {Re}
@@ -47,6 +47,7 @@ seed = 1
 [time]
 end_strain = 100.0
 cfl = 0.9
+viscous = "implicit"   # Re = 0.1: the explicit viscous limit would be ~20x smaller
 
 [output]
 dir = "output/{name}"

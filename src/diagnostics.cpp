@@ -3,12 +3,42 @@
 
 #include <cmath>
 
+#include "../kernels/mixture_stress.hpp"
 #include "../kernels/projection.hpp"
 
 namespace softflow {
 
 namespace {
-constexpr int q_u = 0, q_shear = 1, q_count = 2;
+// the plane sums of one row: cell-centre quantities of cell row r, face
+// quantities of the y-face below it (r = ny: the top wall)
+enum RowQuantity { q_u, q_phi, q_fv, q_pv, q_el, q_uv_f, q_v_f, q_uv_p, q_v_p, q_count };
+}  // namespace
+
+namespace detail {
+struct RowSums {
+  Real q[q_count];
+  KOKKOS_INLINE_FUNCTION RowSums() {
+    for (int m = 0; m < q_count; ++m) q[m] = 0;
+  }
+  KOKKOS_INLINE_FUNCTION RowSums& operator+=(const RowSums& o) {
+    for (int m = 0; m < q_count; ++m) q[m] += o.q[m];
+    return *this;
+  }
+};
+}  // namespace detail
+}  // namespace softflow
+
+template <>
+struct Kokkos::reduction_identity<softflow::detail::RowSums> {
+  KOKKOS_FORCEINLINE_FUNCTION static softflow::detail::RowSums sum() { return {}; }
+};
+
+namespace softflow {
+
+const char* budget_name(int term) {
+  static const char* names[n_budget] = {"fluid_viscous", "particle_viscous", "particle_elastic",
+                                        "fluid_reynolds", "particle_reynolds"};
+  return names[term];
 }
 
 Diagnostics::Diagnostics(FlowSolver& s)
@@ -16,36 +46,54 @@ Diagnostics::Diagnostics(FlowSolver& s)
       sums_("diag_plane_sums", s.grid().ny + 1, q_count),
       host_("diag_plane_sums_host", s.grid().ny + 1, q_count) {}
 
-// Row r of the plane sums: q_u at cell row r (r < ny), q_shear at y-face
-// r - 1/2 counted from the bottom wall (r = 0 bottom wall, r = ny top wall).
 void Diagnostics::plane_sums() {
+  using detail::RowSums;
   const Grid g = s_.grid();
+  const Config& c = s_.config();
   auto u = s_.state().u, v = s_.state().v;
+  const bool solid = s_.solid() != nullptr;
+  const Field3 phi = solid ? s_.solid()->fields().q[0] : Field3();
+  const Field3 b12 = solid ? s_.solid()->fields().q[2] : Field3();
   auto sums = sums_;
-  const Real mu = s_.config().fluid.mu, idx = 1 / g.dx, idy = 1 / g.dy;
+  const Real mu_f = c.fluid.mu, mu_s = c.fluid.mu * (solid ? c.particles.viscosity_ratio : 1);
+  const Real G = solid ? c.shear_modulus() : 0;
+  const Real idx = 1 / g.dx, idy = 1 / g.dy;
   const int nxl = g.nxl, nzl = g.nzl, ng = Grid::ng, ny = g.ny;
   using Team = Kokkos::TeamPolicy<ExecSpace>;
   Kokkos::parallel_for(
       "diagnostics_plane_sums", Team(ny + 1, Kokkos::AUTO), KOKKOS_LAMBDA(const Team::member_type& t) {
         const int r = t.league_rank();
-        Real su = 0, ss = 0;
+        RowSums row;
         Kokkos::parallel_reduce(
             Kokkos::TeamThreadRange(t, nxl * nzl),
-            [&](int m, Real& a) {
-              const int i = ng + m % nxl, k = ng + m / nxl;
-              if (r < ny) a += 0.5 * (u(i, ng + r, k) + u(i - 1, ng + r, k));
+            [&](int m, RowSums& a) {
+              const int i = ng + m % nxl, k = ng + m / nxl, jc = ng + r, jf = ng - 1 + r;
+              if (r < ny) {
+                a.q[q_u] += 0.5 * (u(i, jc, k) + u(i - 1, jc, k));
+                if (solid) a.q[q_phi] += fraction(phi(i, jc, k));
+              }
+              // the x-y edge (i + 1/2, jf + 1/2)
+              const Real s12 = (u(i, jf + 1, k) - u(i, jf, k)) * idy + (v(i + 1, jf, k) - v(i, jf, k)) * idx;
+              const Real ue = 0.5 * (u(i, jf, k) + u(i, jf + 1, k)), ve = 0.5 * (v(i, jf, k) + v(i + 1, jf, k));
+              Real pe = 0, be = 0;
+              if (solid) {
+                const Real p00 = fraction(phi(i, jf, k)), p10 = fraction(phi(i + 1, jf, k)),
+                           p01 = fraction(phi(i, jf + 1, k)), p11 = fraction(phi(i + 1, jf + 1, k));
+                pe = 0.25 * (p00 + p10 + p01 + p11);
+                be = 0.25 * (p00 * b12(i, jf, k) + p10 * b12(i + 1, jf, k) + p01 * b12(i, jf + 1, k) +
+                             p11 * b12(i + 1, jf + 1, k));
+              }
+              a.q[q_fv] += (1 - pe) * mu_f * s12;
+              a.q[q_pv] += pe * mu_s * s12;
+              a.q[q_el] += G * be;
+              a.q[q_uv_f] += (1 - pe) * ue * ve;
+              a.q[q_v_f] += (1 - pe) * ve;
+              a.q[q_uv_p] += pe * ue * ve;
+              a.q[q_v_p] += pe * ve;
             },
-            su);
-        Kokkos::parallel_reduce(
-            Kokkos::TeamThreadRange(t, nxl * nzl),
-            [&](int m, Real& a) {
-              const int i = ng + m % nxl, k = ng + m / nxl, jf = ng - 1 + r;
-              a += mu * ((u(i, jf + 1, k) - u(i, jf, k)) * idy + (v(i + 1, jf, k) - v(i, jf, k)) * idx);
-            },
-            ss);
+            Kokkos::Sum<RowSums>(row));
         Kokkos::single(Kokkos::PerTeam(t), [&]() {
-          sums(r, q_u) = su;
-          sums(r, q_shear) = ss;
+          for (int m = 0; m < q_count; ++m) sums(r, m) = row.q[m];
         });
       });
   Kokkos::deep_copy(host_, sums_);
@@ -56,17 +104,72 @@ void Diagnostics::plane_sums() {
 FlowProfiles Diagnostics::profiles() {
   plane_sums();
   const Grid& g = s_.grid();
-  const Real n = Real(g.nx) * g.nz;
+  const Real n = Real(g.nx) * g.nz, rho = s_.config().fluid.rho;
   FlowProfiles p;
   for (int j = 0; j < g.ny; ++j) {
     p.y_centre.push_back(g.yc(Grid::ng + j));
     p.u_mean.push_back(host_(j, q_u) / n);
+    p.phi_mean.push_back(host_(j, q_phi) / n);
   }
   for (int r = 0; r <= g.ny; ++r) {
     p.y_face.push_back(-g.h() + r * g.dy);
-    p.shear.push_back(host_(r, q_shear) / n);
+    // <u> on the face; on the walls v = 0 and the Reynolds sums vanish anyway
+    const Real uf = (r == 0 || r == g.ny) ? 0 : 0.5 * (p.u_mean[r - 1] + p.u_mean[r]);
+    p.budget[fluid_viscous].push_back(host_(r, q_fv) / n);
+    p.budget[particle_viscous].push_back(host_(r, q_pv) / n);
+    p.budget[particle_elastic].push_back(host_(r, q_el) / n);
+    p.budget[fluid_reynolds].push_back(-rho * (host_(r, q_uv_f) - uf * host_(r, q_v_f)) / n);
+    p.budget[particle_reynolds].push_back(-rho * (host_(r, q_uv_p) - uf * host_(r, q_v_p)) / n);
+    p.shear.push_back(p.budget[fluid_viscous].back() + p.budget[particle_viscous].back() +
+                      p.budget[particle_elastic].back());
   }
   return p;
+}
+
+void Diagnostics::normal_stress_differences(Real& n1, Real& n2) {
+  const Grid g = s_.grid();
+  const Config& c = s_.config();
+  auto u = s_.state().u, v = s_.state().v, w = s_.state().w;
+  const bool solid = s_.solid() != nullptr;
+  const Field3 phi = solid ? s_.solid()->fields().q[0] : Field3();
+  const Field3 bxx = solid ? s_.solid()->fields().q[1] : Field3();
+  const Field3 byy = solid ? s_.solid()->fields().q[4] : Field3();
+  const Field3 bzz = solid ? s_.solid()->fields().q[6] : Field3();
+  const Real mu_f = c.fluid.mu, dmu = solid ? c.fluid.mu * (c.particles.viscosity_ratio - 1) : 0;
+  const Real G = solid ? c.shear_modulus() : 0;
+  const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
+  auto normal = KOKKOS_LAMBDA(int i, int j, int k, Real& s11, Real& s22, Real& s33) {
+    const Real f = solid ? fraction(phi(i, j, k)) : Real(0), mu = mu_f + dmu * f;
+    s11 = 2 * mu * (u(i, j, k) - u(i - 1, j, k)) * idx;
+    s22 = 2 * mu * (v(i, j, k) - v(i, j - 1, k)) * idy;
+    s33 = 2 * mu * (w(i, j, k) - w(i, j, k - 1)) * idz;
+    if (solid) {
+      s11 += G * f * (bxx(i, j, k) - 1);
+      s22 += G * f * (byy(i, j, k) - 1);
+      s33 += G * f * (bzz(i, j, k) - 1);
+    }
+  };
+  n1 = 0, n2 = 0;
+  par_reduce(
+      "diagnostics_n1", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+        Real s11, s22, s33;
+        normal(i, j, k, s11, s22, s33);
+        a += s11 - s22;
+      },
+      Kokkos::Sum<Real>(n1));
+  par_reduce(
+      "diagnostics_n2", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+        Real s11, s22, s33;
+        normal(i, j, k, s11, s22, s33);
+        a += s22 - s33;
+      },
+      Kokkos::Sum<Real>(n2));
+  Real b[2] = {n1, n2};
+  MPI_Allreduce(MPI_IN_PLACE, b, 2, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
+  const Real cells = Real(g.cells_global());
+  n1 = b[0] / cells, n2 = b[1] / cells;
 }
 
 FlowScalars Diagnostics::scalars() {
@@ -75,7 +178,19 @@ FlowScalars Diagnostics::scalars() {
   f.tau_bottom = p.shear.front();
   f.tau_top = p.shear.back();
   const Real gamma = s_.config().shear_rate();
-  if (gamma != 0) f.mu_eff = 0.5 * (f.tau_bottom + f.tau_top) / (s_.config().fluid.mu * gamma);
+  const Real unit = gamma != 0 ? s_.config().fluid.mu * gamma : Real(1);  // mu_f gamma
+  if (gamma != 0) f.mu_eff = 0.5 * (f.tau_bottom + f.tau_top) / unit;
+  // gap averages of the budget (trapezoid over the faces, walls weighted 1/2)
+  Real* avg[n_budget] = {&f.fluid_viscous, &f.particle_viscous, &f.particle_elastic, &f.fluid_reynolds,
+                         &f.particle_reynolds};
+  for (int b = 0; b < n_budget; ++b) {
+    const auto& prof = p.budget[b];
+    Real sum = 0;
+    for (size_t r = 0; r < prof.size(); ++r) sum += (r == 0 || r + 1 == prof.size() ? 0.5 : 1.0) * prof[r];
+    *avg[b] = sum / Real(prof.size() - 1) / unit;
+  }
+  normal_stress_differences(f.n1, f.n2);
+  f.n1 /= unit, f.n2 /= unit;
 
   const Grid g = s_.grid();
   auto u = s_.state().u, v = s_.state().v, w = s_.state().w;

@@ -1,7 +1,22 @@
 // Flow diagnostics, reduced over all ranks: plane averages across the gap and
-// the scalars of the time series. Shear stress is sigma_12 of the fluid,
-// mu (du/dy + dv/dx), on the y-faces (edges of the MAC grid), so its first
-// and last entries are the stresses on the bottom and top walls.
+// the scalars of the time series.
+//
+// Stresses are those of the mixture (METHOD.md), sigma = -p I + 2 mu(phi) D +
+// phi G (B - I), mu(phi) = (1 - phi) mu_f + phi mu_s; G (B - I) everywhere
+// (see kernels/mixture_stress.hpp). The shear-stress budget lives on the
+// y-faces (the x-y edges of the MAC grid, where sigma_12 is computed), so its
+// first and last entries are the walls:
+//   fluid viscous      (1 - phi) mu_f (du/dy + dv/dx)
+//   particle viscous   phi mu_s (du/dy + dv/dx)
+//   particle elastic   phi G B_12
+//   fluid Reynolds    -(1 - phi) rho u'v'
+//   particle Reynolds -phi rho u'v'
+// with phi the 4-cell edge average (as the momentum equation uses) and u' = u
+// - <u>(y); v' = v since the plane mean of v is zero (div u = 0, v = 0 on the
+// walls). The wall shear stress is the sum of the first three (the Reynolds
+// terms vanish on the walls). N1 and N2 are box averages of sigma_11 -
+// sigma_22 and sigma_22 - sigma_33 at the cell centres (the pressure cancels).
+// Stresses are reported in units of mu_f gamma where gamma != 0.
 #pragma once
 #include <vector>
 
@@ -16,15 +31,24 @@ struct FlowScalars {
   Real tau_bottom = 0;      // <sigma_12> on the bottom wall
   Real tau_top = 0;         // <sigma_12> on the top wall
   Real mu_eff = 0;          // (tau_bottom + tau_top) / 2 / (mu_f gamma), 0 if gamma = 0
+  Real n1 = 0, n2 = 0;      // <<sigma_11 - sigma_22>>, <<sigma_22 - sigma_33>> / (mu_f gamma)
+  // volume averages of the shear-stress budget / (mu_f gamma), over the gap
+  Real fluid_viscous = 0, fluid_reynolds = 0, particle_viscous = 0, particle_reynolds = 0,
+       particle_elastic = 0;
   // solid phase (zero without particles)
   Real solid_volume = 0;    // sum of phi dV (unclamped: conserved to round-off)
   Real phi_min = 0, phi_max = 0;
   Real detb_min = 1, detb_max = 1;  // det B over cells with phi > 0.5 (exactly 1 in theory)
 };
 
+// Budget terms, in the order of the comment above.
+enum BudgetTerm { fluid_viscous, particle_viscous, particle_elastic, fluid_reynolds, particle_reynolds, n_budget };
+const char* budget_name(int term);
+
 struct FlowProfiles {
-  std::vector<Real> y_centre, u_mean;  // ny cell centres
-  std::vector<Real> y_face, shear;     // ny + 1 faces, walls included
+  std::vector<Real> y_centre, u_mean, phi_mean;  // ny cell centres
+  std::vector<Real> y_face, shear;               // ny + 1 faces, walls included; shear = total
+  std::vector<Real> budget[n_budget];            // ny + 1 faces, physical units
 };
 
 class Diagnostics {
@@ -37,6 +61,7 @@ class Diagnostics {
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
   // private or protected member functions
   void plane_sums();  // fills sums_ (device) and reduces over ranks into host_
+  void normal_stress_differences(Real& n1, Real& n2);  // box sums of sigma_11 - sigma_22, sigma_22 - sigma_33
 
  private:
   FlowSolver& s_;

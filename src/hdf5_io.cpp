@@ -40,7 +40,8 @@ void FieldFile::stage_out(const H5Item& it) {
 }
 
 void FieldFile::write(const std::string& path, const std::vector<H5Item>& items,
-                      const std::map<std::string, double>& attributes) {
+                      const std::map<std::string, double>& attributes,
+                      const std::map<std::string, std::vector<double>>& array_attributes) {
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
   H5Pset_fapl_mpio(fapl, dec_.comm, MPI_INFO_NULL);
   hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
@@ -70,6 +71,14 @@ void FieldFile::write(const std::string& path, const std::vector<H5Item>& items,
     hid_t sp = H5Screate(H5S_SCALAR);
     hid_t a = H5Acreate2(file, name.c_str(), H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
     check(H5Awrite(a, H5T_NATIVE_DOUBLE, &value), "attribute " + name);
+    H5Aclose(a);
+    H5Sclose(sp);
+  }
+  for (const auto& [name, values] : array_attributes) {
+    const hsize_t n = values.size();
+    hid_t sp = n ? H5Screate_simple(1, &n, nullptr) : H5Screate(H5S_NULL);
+    hid_t a = H5Acreate2(file, name.c_str(), H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
+    if (n) check(H5Awrite(a, H5T_NATIVE_DOUBLE, values.data()), "attribute " + name);
     H5Aclose(a);
     H5Sclose(sp);
   }
@@ -144,6 +153,25 @@ void commit_file(const Decomposition& dec, const std::string& tmp, const std::st
   if (dec.is_root()) ok = std::rename(tmp.c_str(), final_path.c_str()) == 0;
   MPI_Bcast(&ok, 1, MPI_INT, 0, dec.comm);
   if (!ok) throw std::runtime_error("cannot rename '" + tmp + "' to '" + final_path + "'");
+}
+
+std::vector<double> FieldFile::read_array(const std::string& path, const std::string& name) {
+  std::vector<double> out;
+  hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) return out;
+  if (H5Aexists(file, name.c_str()) > 0) {
+    hid_t a = H5Aopen(file, name.c_str(), H5P_DEFAULT);
+    hid_t sp = H5Aget_space(a);
+    const hssize_t n = H5Sget_simple_extent_npoints(sp);
+    if (n > 0) {
+      out.resize(size_t(n));
+      H5Aread(a, H5T_NATIVE_DOUBLE, out.data());
+    }
+    H5Sclose(sp);
+    H5Aclose(a);
+  }
+  H5Fclose(file);
+  return out;
 }
 
 }  // namespace softflow

@@ -26,11 +26,14 @@ class FieldFile {
   FieldFile(const Decomposition& dec, const Grid& g);
   // writes the items and scalar attributes; collective
   void write(const std::string& path, const std::vector<H5Item>& items,
-             const std::map<std::string, double>& attributes);
+             const std::map<std::string, double>& attributes,
+             const std::map<std::string, std::vector<double>>& array_attributes = {});
   // reads raw items and the named scalar attributes; collective. Throws
   // InputError naming the file and what is missing or does not match.
   std::map<std::string, double> read(const std::string& path, const std::vector<H5Item>& items,
                                      const std::vector<std::string>& attribute_names);
+  // a 1-D array attribute, empty if the file has none of that name
+  static std::vector<double> read_array(const std::string& path, const std::string& name);
 
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
   // private or protected member functions

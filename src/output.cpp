@@ -25,9 +25,19 @@ void check_output_dir(const std::string& dir) {
 }
 
 namespace {
-const char* series_header =
-    "step,time,strain,dt,kinetic_energy,max_div,max_speed,tau_bottom,tau_top,mu_eff\n";
-const char* solid_header = "solid_volume,phi_min,phi_max,detb_min,detb_max\n";
+std::string series_header(bool solid) {
+  std::string h = "step,time,strain,dt,kinetic_energy,max_div,max_speed,tau_bottom,tau_top,mu_eff,n1,n2";
+  for (int b = 0; b < n_budget; ++b) h += std::string(",") + budget_name(b);
+  if (solid) h += ",solid_volume,phi_min,phi_max,detb_min,detb_max";
+  return h;
+}
+const char* particles_header =
+    "step,time,strain,count,taylor_mean,taylor_std,a_xy_mean,b_xy_mean,a_mean,b_mean,c_mean,angle_mean_deg,phi_e";
+std::string profiles_header() {
+  std::string h = "step,strain,row,y_centre,u_mean,phi_mean,y_face";
+  for (int b = 0; b < n_budget; ++b) h += std::string(",") + budget_name(b);
+  return h;
+}
 
 std::string snapshot_name(long step) {
   std::ostringstream s;
@@ -38,25 +48,14 @@ std::string snapshot_name(long step) {
 
 Output::Output(FlowSolver& s, bool restarted)
     : s_(s), dir_(s.config().output.dir), file_(s.decomposition(), s.grid()) {
-  if (!s.decomposition().is_root()) return;
-  std::string series = series_header;
-  if (s.solid()) series.back() = ',', series += solid_header;
-  if (restarted) {
-    // keep what the interrupted run wrote up to the checkpoint's step
-    std::ifstream in(dir_ + "/series.csv");
-    std::string line;
-    if (in && std::getline(in, line)) {
-      while (std::getline(in, line)) {
-        long st = std::atol(line.c_str());
-        if (st <= s.step) series += line + "\n";
-      }
-    }
-  }
-  // the header (and kept rows) replace the file whole; rows are then appended
-  // and flushed one by one, so an interruption loses at most the row being written
-  write_text("series.csv", series);
-  series_file_.open(dir_ + "/series.csv", std::ios::app);
-  if (!series_file_) throw std::runtime_error("cannot append to '" + dir_ + "/series.csv'");
+  const bool root = s.decomposition().is_root();
+  // after a restart keep what the interrupted run wrote up to the checkpoint's step
+  const long keep = restarted ? s.step : -1;
+  series_ = CsvSeries(root, dir_ + "/series.csv", series_header(s.solid() != nullptr), keep);
+  if (s.solid()) particles_ = CsvSeries(root, dir_ + "/particles.csv", particles_header, keep);
+  if (s.config().output.profiles_every)
+    profiles_ = CsvSeries(root, dir_ + "/profiles_series.csv", profiles_header(), keep);
+  if (!root) return;
   if (!restarted) return;
   std::regex pat(R"(fields_(\d{8})\.h5)");
   for (const auto& e : fs::directory_iterator(dir_)) {
@@ -91,29 +90,49 @@ void Output::write_text(const std::string& name, const std::string& text) {
 }
 
 void Output::series_row(const FlowScalars& f, Real dt) {
-  if (!s_.decomposition().is_root()) return;
   std::ostringstream r;
-  r << std::setprecision(10) << s_.step << "," << s_.time << ","
-    << s_.time * s_.config().shear_rate() << "," << dt << "," << f.kinetic_energy << ","
-    << f.max_div << "," << f.max_speed << "," << f.tau_bottom << "," << f.tau_top << ","
-    << f.mu_eff;
+  r << std::setprecision(10) << s_.step << "," << s_.time << "," << s_.time * s_.config().shear_rate() << ","
+    << dt << "," << f.kinetic_energy << "," << f.max_div << "," << f.max_speed << "," << f.tau_bottom << ","
+    << f.tau_top << "," << f.mu_eff << "," << f.n1 << "," << f.n2 << "," << f.fluid_viscous << ","
+    << f.particle_viscous << "," << f.particle_elastic << "," << f.fluid_reynolds << "," << f.particle_reynolds;
   if (s_.solid())
     r << "," << f.solid_volume << "," << f.phi_min << "," << f.phi_max << "," << f.detb_min << ","
       << f.detb_max;
-  r << "\n";
-  series_file_ << r.str() << std::flush;
+  series_.append(r.str());
 }
 
-void Output::profiles(const FlowProfiles& p) {
-  std::ostringstream s;
-  s << std::setprecision(12) << "# rows 0..ny-1: cell centres; shear on the faces below each cell,"
-    << " the last row the top wall\ny_centre,u_mean,y_face,shear\n";
-  for (size_t r = 0; r < p.y_face.size(); ++r) {
-    if (r < p.y_centre.size()) s << p.y_centre[r] << "," << p.u_mean[r] << ",";
-    else s << ",,";
-    s << p.y_face[r] << "," << p.shear[r] << "\n";
+void Output::particles_row(const std::vector<ParticleShape>& shapes) {
+  const Grid& g = s_.grid();
+  double n = double(shapes.size()), t = 0, t2 = 0, axy = 0, bxy = 0, a = 0, b = 0, c = 0, ang = 0, b3 = 0;
+  for (const auto& p : shapes) {
+    t += p.taylor, t2 += p.taylor * p.taylor, axy += p.a_xy, bxy += p.b_xy;
+    a += p.a, b += p.b, c += p.c, ang += p.angle, b3 += p.b_xy * p.b_xy * p.b_xy;
   }
-  write_text("profiles.csv", s.str());
+  const double m = std::max(n, 1.0);
+  const double tm = t / m, ts = std::sqrt(std::max(0.0, t2 / m - tm * tm));
+  // Phi_e = N (4/3) pi b^3 / V_box, b the semi-minor axis of the x-y section
+  const double phi_e = 4.0 / 3.0 * M_PI * b3 / (g.lx * g.ly * g.lz);
+  std::ostringstream r;
+  r << std::setprecision(10) << s_.step << "," << s_.time << "," << s_.time * s_.config().shear_rate() << ","
+    << shapes.size() << "," << tm << "," << ts << "," << axy / m << "," << bxy / m << "," << a / m << ","
+    << b / m << "," << c / m << "," << ang / m * 180 / M_PI << "," << phi_e;
+  particles_.append(r.str());
+}
+
+void Output::profile_sample(const FlowProfiles& p) {
+  if (!s_.decomposition().is_root()) return;
+  std::ostringstream r;
+  r << std::setprecision(10);
+  const double strain = s_.time * s_.config().shear_rate();
+  for (size_t j = 0; j < p.y_face.size(); ++j) {
+    r.str("");
+    r << s_.step << "," << strain << "," << j << ",";
+    if (j < p.y_centre.size()) r << p.y_centre[j] << "," << p.u_mean[j] << "," << p.phi_mean[j] << ",";
+    else r << ",,,";
+    r << p.y_face[j];
+    for (int b = 0; b < n_budget; ++b) r << "," << p.budget[b][j];
+    profiles_.append(r.str());
+  }
 }
 
 namespace {
@@ -177,19 +196,24 @@ void Output::write_xdmf() {
   write_text("fields.xdmf", x.str());
 }
 
-void Output::checkpoint() {
+void Output::checkpoint(const std::vector<ParticleShape>& particles) {
   auto& st = s_.state();
   const std::string path = dir_ + "/checkpoint.h5";
   const Grid& g = s_.grid();
   std::vector<H5Item> items = {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}};
   add_solid(items, s_);
+  std::vector<double> centroids;
+  for (const auto& p : particles) centroids.insert(centroids.end(), {p.x, p.y, p.z});
+  std::map<std::string, std::vector<double>> arrays;
+  if (s_.solid()) arrays["particle_centroids"] = centroids;
   file_.write(path + ".tmp", items,
               {{"time", s_.time}, {"step", double(s_.step)}, {"nx", double(g.nx)},
-               {"ny", double(g.ny)}, {"nz", double(g.nz)}});
+               {"ny", double(g.ny)}, {"nz", double(g.nz)}},
+              arrays);
   commit_file(s_.decomposition(), path + ".tmp", path);
 }
 
-void Output::restart(FlowSolver& s, const std::string& path) {
+std::vector<double> Output::restart(FlowSolver& s, const std::string& path) {
   FieldFile f(s.decomposition(), s.grid());
   auto& st = s.state();
   std::vector<H5Item> items = {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}};
@@ -202,7 +226,9 @@ void Output::restart(FlowSolver& s, const std::string& path) {
   if (s.solid()) {
     s.solid()->fill_ghosts();
     s.solid()->init_force();
+    return FieldFile::read_array(path, "particle_centroids");
   }
+  return {};
 }
 
 }  // namespace softflow

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "output.hpp"
+#include "run_averages.hpp"
 
 namespace softflow {
 
@@ -23,7 +24,7 @@ std::string hms(double s) {
 }
 
 void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r,
-                   const std::string& dir) {
+                   const std::string& dir, const nlohmann::json& averages, size_t particle_count) {
   if (!s.decomposition().is_root()) return;
   const Config& c = s.config();
   nlohmann::json j;
@@ -39,9 +40,12 @@ void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r
                    {"threads_per_rank", ExecSpace().concurrency()}};
   j["final"] = {{"step", s.step}, {"time", s.time}, {"strain", s.time * c.shear_rate()},
                 {"kinetic_energy", f.kinetic_energy}, {"max_div", f.max_div},
-                {"tau_bottom", f.tau_bottom}, {"tau_top", f.tau_top}, {"mu_eff", f.mu_eff}};
+                {"tau_bottom", f.tau_bottom}, {"tau_top", f.tau_top}, {"mu_eff", f.mu_eff},
+                {"n1", f.n1}, {"n2", f.n2}};
+  j["averages"] = averages;
   if (s.solid()) {
-    j["case"]["particles"] = {{"count", s.solid()->spheres().size()},
+    j["case"]["particles"] = {{"count", particle_count},
+                              {"volume_fraction", f.solid_volume / (c.grid.lx * c.grid.ly * c.grid.lz)},
                               {"radius", c.particles.radius},
                               {"capillary", c.particles.capillary > 0 ? c.particles.capillary
                                                                       : c.fluid.mu * c.shear_rate() / c.shear_modulus()},
@@ -68,13 +72,35 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
   FlowSolver solver(cfg, comm);
   const bool root = solver.decomposition().is_root();
   const bool restarted = !cfg.restart.empty();
+  std::vector<double> centroids;
   if (restarted) {
-    Output::restart(solver, cfg.restart);
+    centroids = Output::restart(solver, cfg.restart);
   } else {
     solver.initialize();
   }
   Output out(solver, restarted);
   Diagnostics diag(solver);
+  // particle identity for the shape diagnostics: seeded spheres, or the
+  // centroids the checkpoint tracked
+  std::unique_ptr<ParticleTracker> tracker;
+  if (solver.solid()) {
+    auto start = ParticleTracker::from_spheres(solver.solid()->spheres());
+    if (restarted) {
+      start.assign(centroids.size() / 3, ParticleShape{});
+      for (size_t p = 0; p < start.size(); ++p)
+        start[p].x = centroids[3 * p], start[p].y = centroids[3 * p + 1], start[p].z = centroids[3 * p + 2];
+    }
+    tracker = std::make_unique<ParticleTracker>(solver, start);
+  }
+  const std::vector<ParticleShape> no_particles;
+  auto particles = [&]() -> const std::vector<ParticleShape>& { return tracker ? tracker->shapes() : no_particles; };
+  auto series_rows = [&](const FlowScalars& f, Real dt) {
+    out.series_row(f, dt);
+    if (tracker) {
+      tracker->update();
+      out.particles_row(tracker->shapes());
+    }
+  };
   const OutputConfig& oc = cfg.output;
   const Real t_end = cfg.end_time_resolved();
   const Real gamma = cfg.shear_rate();
@@ -93,7 +119,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
         << ", end time " << t_end << " (strain " << t_end * gamma << ")\n";
   }
   if (!restarted) {
-    out.series_row(diag.scalars(), 0);
+    series_rows(diag.scalars(), 0);
+    if (oc.profiles_every) out.profile_sample(diag.profiles());
     out.snapshot();
   }
 
@@ -114,7 +141,7 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
     ++res.steps;
     if (!std::isfinite(solver.time) || (oc.series_every && solver.step % oc.series_every == 0)) {
       FlowScalars f = diag.scalars();
-      out.series_row(f, dt);
+      series_rows(f, dt);
       if (!std::isfinite(f.kinetic_energy))
         throw std::runtime_error("the solution is no longer finite at step " + std::to_string(solver.step));
     }
@@ -122,7 +149,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
       out.snapshot();
       next_snap += snap_dt;
     }
-    if (oc.checkpoint_every && solver.step % oc.checkpoint_every == 0) out.checkpoint();
+    if (oc.profiles_every && solver.step % oc.profiles_every == 0) out.profile_sample(diag.profiles());
+    if (oc.checkpoint_every && solver.step % oc.checkpoint_every == 0) out.checkpoint(particles());
     if (root && oc.progress_every && solver.step % oc.progress_every == 0) {
       Kokkos::fence("progress");
       const auto now = clock::now();
@@ -139,11 +167,15 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
   Kokkos::fence("run_end");
   res.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
   FlowScalars f = diag.scalars();
-  if (res.steps > 0 && (!oc.series_every || solver.step % oc.series_every)) out.series_row(f, dt);
+  // the end state as a last sample, unless the run only paused (max_steps):
+  // its continuation must write the same rows as an uninterrupted run
+  const bool finished = solver.time >= t_end * (1 - 1e-14);
+  if (finished && res.steps > 0 && (!oc.series_every || solver.step % oc.series_every)) series_rows(f, dt);
+  if (finished && res.steps > 0 && oc.profiles_every && solver.step % oc.profiles_every)
+    out.profile_sample(diag.profiles());
   out.snapshot();
-  out.checkpoint();
-  out.profiles(diag.profiles());
-  write_summary(solver, f, res, oc.dir);
+  out.checkpoint(particles());
+  write_summary(solver, f, res, oc.dir, run_averages(solver, out), particles().size());
   if (root) {
     log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
         << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff

@@ -1,0 +1,204 @@
+#!/usr/bin/env python3
+"""Runs a list of reference cases at a chosen resolution, resumes what was
+interrupted, and collects the run summaries into one table.
+
+  scripts/run-set.py [--cases all|dilute|dense|NAME,NAME,...] [--ppr 4]
+                     [--strain 20] [--np 1] [--threads N] [--out output/set]
+                     [--viscous implicit] [--box LX,LY,LZ] [--collect-only]
+
+Each case is cases/NAME.toml (the reference set, 16 points per radius) with
+the grid scaled to --ppr points per radius, run to --strain strain units into
+OUT/NAME/. A case whose summary.json reached the strain is skipped; one with
+a checkpoint.h5 is restarted from it (checkpoints every 200 steps). --box
+replaces the box (in radii; the particle count follows Phi). Progress lines
+carry the whole set's ETA, from the cost per strain unit so far. The table
+is OUT/table.csv, one row per case, means and standard errors
+(docs/output.md lists the columns).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# the table's columns taken from summary.json "averages.quantities" (mean and stderr each)
+QUANTITIES = ["mu_eff", "mu_bottom", "mu_top", "n1", "n2", "taylor", "taylor_spread", "phi_e", "Phi",
+              "intrinsic_viscosity", "detb_min", "detb_max", "a_xy", "b_xy", "angle_deg"]
+BUDGET = ["fluid_viscous", "fluid_reynolds", "particle_viscous", "particle_reynolds", "particle_elastic"]
+
+
+def reference_cases():
+    rows = list(csv.DictReader(open(os.path.join(ROOT, "cases", "reference.csv"))))
+    return {r["name"]: r for r in rows}
+
+
+def select(spec, ref):
+    if spec == "all":
+        return list(ref)
+    if spec == "dilute":
+        return [n for n in ref if n.startswith("phi0016_")]
+    if spec.startswith("phi") and spec in {n.split("_")[0] for n in ref}:  # a whole series, e.g. phi011
+        return [n for n in ref if n.startswith(spec + "_ca") and "_k" not in n]
+    names = spec.split(",")
+    for n in names:
+        if n not in ref:
+            sys.exit(f"run-set: unknown case '{n}' (cases/reference.csv lists them)")
+    return names
+
+
+def read_key(text, table, key):
+    m = re.search(r"^\[" + table + r"\](.*?)(^\[|\Z)", text, re.S | re.M)
+    k = re.search(r"^" + key + r"\s*=\s*([^\s#]+)", m.group(1), re.M) if m else None
+    return float(k.group(1)) if k else None
+
+
+def case_overrides(name, args):
+    text = open(os.path.join(ROOT, "cases", name + ".toml")).read()
+    r = read_key(text, "particles", "radius") or 1.0
+    box = [read_key(text, "grid", k) for k in ("lx", "ly", "lz")]
+    if args.box:
+        box = [float(v) for v in args.box.split(",")]
+    n = [max(3, round(L / r * args.ppr)) for L in box]
+    o = [f"grid.lx={box[0]}", f"grid.ly={box[1]}", f"grid.lz={box[2]}",
+         f"grid.nx={n[0]}", f"grid.ny={n[1]}", f"grid.nz={n[2]}",
+         f"time.end_strain={args.strain}", f'time.viscous="{args.viscous}"',
+         f'output.dir="{os.path.join(args.out, name)}"', "output.fields_every=0.0",
+         "output.checkpoint_every=200", f"output.progress_every={args.progress_every}"]
+    return o, n
+
+
+def done_strain(folder):
+    try:
+        return json.load(open(os.path.join(folder, "summary.json")))["final"]["strain"]
+    except (OSError, KeyError, ValueError):
+        return None
+
+
+def hms(s):
+    if not math.isfinite(s) or s < 0:
+        return "--:--:--"
+    s = int(s + 0.5)
+    return f"{s // 3600:02d}:{s // 60 % 60:02d}:{s % 60:02d}"
+
+
+def run_case(name, args, state):
+    folder = os.path.join(args.out, name)
+    o, n = case_overrides(name, args)
+    cmd = ["mpiexec", "-n", str(args.np), "--oversubscribe", os.path.join(args.build, "softflow"),
+           os.path.join("cases", name + ".toml")]
+    for s in o:
+        cmd += ["--set", s]
+    ckpt = os.path.join(folder, "checkpoint.h5")
+    if os.path.exists(ckpt):
+        cmd += ["--restart", ckpt]
+        print(f"run-set: {name}: resuming from {ckpt}", flush=True)
+    env = dict(os.environ, OMP_NUM_THREADS=str(args.threads))
+    full = [os.path.join(ROOT, "scripts", "toolchain.sh"), "run"] + cmd
+    t0 = time.time()
+    case_start = None if os.path.exists(ckpt) else 0.0  # resumed: the first progress line's strain
+    p = subprocess.Popen(full, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    log = open(os.path.join(args.out, name + ".log"), "a")
+    for line in p.stdout:
+        log.write(line)
+        m = re.search(r"strain\s+([0-9.eE+-]+)", line)
+        if m and line.startswith("step"):
+            s = float(m.group(1))
+            if case_start is None:
+                case_start = s
+            advanced = state["advanced"] + s - case_start
+            rate = (state["elapsed"] + time.time() - t0) / max(advanced, 1e-9)
+            left = (args.strain - s) + args.strain * (state["n"] - state["k"])
+            line = f"[{state['k']}/{state['n']} {name}, set ETA {hms(rate * left) if advanced > 0 else '--'}] " + line
+            state["last"] = s - case_start
+        sys.stdout.write(line)
+        sys.stdout.flush()
+    rc = p.wait()
+    state["elapsed"] += time.time() - t0
+    state["advanced"] += args.strain - (case_start or 0.0)
+    if rc != 0:
+        sys.exit(f"run-set: {name} failed (exit {rc}); see {os.path.join(args.out, name + '.log')}")
+
+
+def collect(names, args, ref):
+    rows = []
+    for name in names:
+        folder = os.path.join(args.out, name)
+        try:
+            s = json.load(open(os.path.join(folder, "summary.json")))
+        except (OSError, ValueError):
+            continue
+        c = ref[name]
+        a = s.get("averages", {})
+        q = a.get("quantities", {})
+        g = s["case"]["grid"]
+        row = {"name": name, "Phi_case": c["Phi"], "Ca": c["Ca"], "K": c["K"], "Re": c["Re"],
+               "ppr": round(g[0] / s["case"]["box"][0] * s["case"]["particles"]["radius"], 3),
+               "grid": "x".join(map(str, g)), "box": "x".join(map(str, s["case"]["box"])),
+               "particles": s["case"]["particles"]["count"], "strain": s["final"]["strain"],
+               "from_strain": a.get("from_strain"), "steps_this_run": s["performance"]["steps"],
+               "wall_seconds_this_run": s["performance"]["wall_seconds"], "version": s["code"]["version"]}
+        for k in QUANTITIES:
+            v = q.get(k) or {}
+            row[k], row[k + "_stderr"] = v.get("mean"), v.get("stderr")
+        for k in BUDGET:
+            v = (q.get("budget_share") or {}).get(k) or {}
+            row["share_" + k], row["share_" + k + "_stderr"] = v.get("mean"), v.get("stderr")
+        rows.append(row)
+    if not rows:
+        return None
+    path = os.path.join(args.out, "table.csv")
+    with open(path + ".tmp", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(path + ".tmp", path)
+    return path
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cases", default="all")
+    ap.add_argument("--ppr", type=float, default=4)
+    ap.add_argument("--strain", type=float, default=20)
+    ap.add_argument("--np", type=int, default=1)
+    ap.add_argument("--threads", type=int, default=max(1, os.cpu_count() or 1))
+    ap.add_argument("--out", default="output/set")
+    ap.add_argument("--viscous", default="implicit", choices=["implicit", "explicit"])
+    ap.add_argument("--box", default=None)
+    ap.add_argument("--build", default=os.environ.get("SOFTFLOW_BUILD", "build"))
+    ap.add_argument("--progress-every", type=int, default=100)
+    ap.add_argument("--collect-only", action="store_true")
+    args = ap.parse_args()
+    ref = reference_cases()
+    names = select(args.cases, ref)
+    os.makedirs(os.path.join(ROOT, args.out), exist_ok=True)
+    os.chdir(ROOT)
+    if not args.collect_only:
+        subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "setup"], check=True)
+        subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "bash", "-c",
+                        f'cmake -S . -B "{args.build}" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null && '
+                        f'cmake --build "{args.build}" >/dev/null'], check=True)
+        todo = []
+        for name in names:
+            s = done_strain(os.path.join(args.out, name))
+            if s is not None and s >= args.strain * (1 - 1e-9):
+                print(f"run-set: {name}: done (strain {s:g})", flush=True)
+            else:
+                todo.append(name)
+        state = {"n": len(todo), "elapsed": 0.0, "advanced": 0.0, "k": 0}
+        for k, name in enumerate(todo, 1):
+            state["k"] = k
+            run_case(name, args, state)
+            collect(names, args, ref)
+    path = collect(names, args, ref)
+    print(f"run-set: table in {path}" if path else "run-set: no summaries yet")
+
+
+if __name__ == "__main__":
+    main()

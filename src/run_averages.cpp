@@ -1,0 +1,176 @@
+#include "run_averages.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "averaging.hpp"
+
+namespace softflow {
+
+namespace {
+
+using Columns = std::map<std::string, std::vector<double>>;
+
+nlohmann::json to_json(const Average& a) {
+  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  return {{"mean", num(a.mean)}, {"stderr", num(a.stderr_)}, {"samples", a.samples}};
+}
+
+std::string num_str(double v) {
+  if (!std::isfinite(v)) return "";
+  std::ostringstream o;
+  o << std::setprecision(10) << v;
+  return o.str();
+}
+
+// first index whose strain reaches `from`
+size_t first_at(const std::vector<double>& strain, double from) {
+  size_t k = 0;
+  while (k < strain.size() && strain[k] < from - 1e-12) ++k;
+  return k;
+}
+
+// samples after the initial row (step 0: the initial state, not a sample of the flow)
+std::vector<double> drop_initial(const Columns& c, const std::string& name) {
+  const auto& v = c.at(name);
+  const auto& step = c.at("step");
+  std::vector<double> out;
+  for (size_t k = 0; k < v.size(); ++k)
+    if (step[k] > 0) out.push_back(v[k]);
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json run_averages(const FlowSolver& s, Output& out) {
+  nlohmann::json j;
+  if (!s.decomposition().is_root()) return j;
+  const Config& c = s.config();
+  const std::string dir = out.dir();
+  const Columns series = read_columns(dir + "/series.csv");
+  if (!series.count("strain") || series.at("strain").size() < 2) return j;
+  const Columns parts = s.solid() ? read_columns(dir + "/particles.csv") : Columns{};
+  const bool has_parts = parts.count("taylor_mean") && parts.at("taylor_mean").size() > 1;
+
+  const auto strain = drop_initial(series, "strain");
+  double from = c.output.average_from_strain;
+  std::string how = "set by output.average_from_strain";
+  if (from < 0) {
+    // MSER on mu_eff and, with particles, on the mean Taylor parameter: the later start
+    const auto mu = drop_initial(series, "mu_eff");
+    from = strain[mser_start(mu)];
+    if (has_parts) {
+      const auto ps = drop_initial(parts, "strain");
+      from = std::max(from, ps[mser_start(drop_initial(parts, "taylor_mean"))]);
+    }
+    how = "detected: MSER (White 1997) on mu_eff" + std::string(has_parts ? " and taylor_mean" : "");
+  }
+  j["from_strain"] = from;
+  j["to_strain"] = strain.back();
+  j["start"] = how;
+  j["uncertainty"] = "standard error of the mean from 10 non-overlapping batch means";
+
+  const double gamma = c.shear_rate(), unit = gamma != 0 ? c.fluid.mu * gamma : 1.0;
+  const size_t k0 = first_at(strain, from);
+  auto avg = [&](const std::vector<double>& v) { return to_json(batch_mean(v, k0)); };
+  nlohmann::json q;
+  q["mu_eff"] = avg(drop_initial(series, "mu_eff"));
+  std::vector<double> mb = drop_initial(series, "tau_bottom"), mt = drop_initial(series, "tau_top");
+  for (auto& v : mb) v /= unit;
+  for (auto& v : mt) v /= unit;
+  q["mu_bottom"] = avg(mb);
+  q["mu_top"] = avg(mt);
+  q["n1"] = avg(drop_initial(series, "n1"));
+  q["n2"] = avg(drop_initial(series, "n2"));
+  q["kinetic_energy"] = avg(drop_initial(series, "kinetic_energy"));
+  // the budget: gap averages and each term's share of their sum, sample by sample
+  std::vector<std::vector<double>> terms;
+  for (int b = 0; b < n_budget; ++b) terms.push_back(drop_initial(series, budget_name(b)));
+  nlohmann::json budget, shares;
+  for (int b = 0; b < n_budget; ++b) {
+    std::vector<double> share(terms[b].size());
+    for (size_t k = 0; k < share.size(); ++k) {
+      double total = 0;
+      for (int e = 0; e < n_budget; ++e) total += terms[e][k];
+      share[k] = total != 0 ? terms[b][k] / total : NAN;
+    }
+    budget[budget_name(b)] = avg(terms[b]);
+    shares[budget_name(b)] = avg(share);
+  }
+  q["budget"] = budget;
+  q["budget_share"] = shares;
+  if (s.solid()) {
+    const double vbox = c.grid.lx * c.grid.ly * c.grid.lz;
+    std::vector<double> phi = drop_initial(series, "solid_volume");
+    for (auto& v : phi) v /= vbox;
+    const Average pa = batch_mean(phi, k0);
+    q["Phi"] = to_json(pa);
+    q["detb_min"] = avg(drop_initial(series, "detb_min"));
+    q["detb_max"] = avg(drop_initial(series, "detb_max"));
+    // intrinsic viscosity [mu] = (mu - mu_f) / (mu_f Phi), meaningful for dilute cases
+    Average mu = batch_mean(drop_initial(series, "mu_eff"), k0), im = mu;
+    im.mean = (mu.mean - 1) / pa.mean, im.stderr_ = mu.stderr_ / pa.mean;
+    q["intrinsic_viscosity"] = to_json(im);
+  }
+  if (has_parts) {
+    const auto ps = drop_initial(parts, "strain");
+    const size_t p0 = first_at(ps, from);
+    auto pav = [&](const char* name) { return to_json(batch_mean(drop_initial(parts, name), p0)); };
+    q["taylor"] = pav("taylor_mean");
+    q["taylor_spread"] = pav("taylor_std");  // standard deviation over the particles
+    q["phi_e"] = pav("phi_e");
+    q["a_xy"] = pav("a_xy_mean");
+    q["b_xy"] = pav("b_xy_mean");
+    q["angle_deg"] = pav("angle_mean_deg");
+  }
+  j["quantities"] = q;
+
+  // averaged profiles, row by row over the samples after the start
+  const Columns prof = read_columns(dir + "/profiles_series.csv");
+  if (prof.count("row") && !prof.at("row").empty()) {
+    const auto& row = prof.at("row");
+    const auto& pst = prof.at("strain");
+    const auto& step = prof.at("step");
+    const int rows = int(*std::max_element(row.begin(), row.end())) + 1;
+    std::vector<std::string> names = {"u_mean", "phi_mean"};
+    for (int b = 0; b < n_budget; ++b) names.push_back(budget_name(b));
+    std::ostringstream o;
+    o << std::setprecision(8)
+      << "# time averages from strain " << from << "; u over V_w, stresses over mu_f gamma; "
+      << "rows 0..ny-1 cell centres (y_centre), budget on the faces below them (y_face; the last row the top wall)\n"
+      << "row,y_centre,y_face";
+    for (const auto& n : names) o << "," << n << "," << n << "_stderr";
+    o << "\n";
+    const double vw = c.walls.velocity != 0 ? c.walls.velocity : 1.0;
+    long samples = 0;
+    for (int r = 0; r < rows; ++r) {
+      std::vector<size_t> idx;
+      for (size_t k = 0; k < row.size(); ++k)
+        if (int(row[k]) == r && step[k] > 0 && pst[k] >= from - 1e-12) idx.push_back(k);
+      samples = long(idx.size());
+      auto pick = [&](const std::string& n) {
+        std::vector<double> v;
+        for (size_t k : idx) v.push_back(prof.at(n)[k]);
+        return v;
+      };
+      const auto yc = pick("y_centre"), yf = pick("y_face");
+      o << r << "," << (yc.empty() ? std::string() : num_str(yc[0])) << ","
+        << (yf.empty() ? std::string() : num_str(yf[0]));
+      for (const auto& n : names) {
+        auto v = pick(n);
+        const double scale = n == "u_mean" ? 1 / vw : n == "phi_mean" ? 1.0 : 1 / unit;
+        for (auto& e : v) e *= scale;
+        const Average a = batch_mean(v, 0);
+        o << "," << num_str(a.mean) << "," << num_str(a.stderr_);
+      }
+      o << "\n";
+    }
+    out.write_text("profiles.csv", o.str());
+    j["profile_samples"] = samples;
+  }
+  return j;
+}
+
+}  // namespace softflow
