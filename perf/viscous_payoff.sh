@@ -6,6 +6,7 @@
 # the same machine load. Then perf/viscous_payoff.py tabulates.
 #
 #   perf/viscous_payoff.sh [STRAIN]     (default 3; output in output/payoff/)
+# ONLY=implicit (or explicit) reruns one scheme's runs and keeps the others.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 strain=${1:-3}
@@ -15,6 +16,8 @@ mkdir -p output/payoff
 run() {  # name, case file, scheme, overrides...
   local name=$1 file=$2 scheme=$3
   shift 3
+  if [ -n "${ONLY:-}" ] && [ "$scheme" != "$ONLY" ]; then return; fi
+  rm -rf "output/payoff/$name"
   scripts/toolchain.sh run env OMP_NUM_THREADS=1 "$bin" "$file" \
     --set "time.viscous=\"$scheme\"" --set "time.end_strain=$strain" \
     --set "output.dir=\"output/payoff/$name\"" --set output.fields_every=0.0 \

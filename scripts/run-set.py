@@ -4,13 +4,15 @@ interrupted, and collects the run summaries into one table.
 
   scripts/run-set.py [--cases all|dilute|dense|NAME,NAME,...] [--ppr 4]
                      [--strain 20] [--np 1] [--threads N] [--out output/set]
-                     [--viscous implicit] [--box LX,LY,LZ] [--collect-only]
+                     [--viscous implicit] [--box LX,LY,LZ] [--set KEY=VALUE]...
+                     [--collect-only]
 
 Each case is cases/NAME.toml (the reference set, 16 points per radius) with
 the grid scaled to --ppr points per radius, run to --strain strain units into
 OUT/NAME/. A case whose summary.json reached the strain is skipped; one with
 a checkpoint.h5 is restarted from it (checkpoints every 200 steps). --box
-replaces the box (in radii; the particle count follows Phi). Progress lines
+replaces the box (in radii; the particle count follows Phi, the wall speed
+follows the gap so that gamma, Re and Ca stay those of the case). Progress lines
 carry the whole set's ETA, from the cost per strain unit so far. The table
 is OUT/table.csv, one row per case, means and standard errors
 (docs/output.md lists the columns).
@@ -62,14 +64,18 @@ def case_overrides(name, args):
     text = open(os.path.join(ROOT, "cases", name + ".toml")).read()
     r = read_key(text, "particles", "radius") or 1.0
     box = [read_key(text, "grid", k) for k in ("lx", "ly", "lz")]
+    vw = read_key(text, "walls", "velocity")
     if args.box:
-        box = [float(v) for v in args.box.split(",")]
+        # keep the shear rate gamma = V_w / h (and so Re and Ca) in the new gap
+        new = [float(v) for v in args.box.split(",")]
+        vw *= new[1] / box[1]
+        box = new
     n = [max(3, round(L / r * args.ppr)) for L in box]
     o = [f"grid.lx={box[0]}", f"grid.ly={box[1]}", f"grid.lz={box[2]}",
-         f"grid.nx={n[0]}", f"grid.ny={n[1]}", f"grid.nz={n[2]}",
+         f"grid.nx={n[0]}", f"grid.ny={n[1]}", f"grid.nz={n[2]}", f"walls.velocity={vw}",
          f"time.end_strain={args.strain}", f'time.viscous="{args.viscous}"',
          f'output.dir="{os.path.join(args.out, name)}"', "output.fields_every=0.0",
-         "output.checkpoint_every=200", f"output.progress_every={args.progress_every}"]
+         "output.checkpoint_every=200", f"output.progress_every={args.progress_every}"] + args.set
     return o, n
 
 
@@ -125,6 +131,36 @@ def run_case(name, args, state):
         sys.exit(f"run-set: {name} failed (exit {rc}); see {os.path.join(args.out, name + '.log')}")
 
 
+def batch_mean(v, batches=10):
+    """Mean and 10-batch-means standard error, as src/averaging.cpp."""
+    v = [x for x in v if math.isfinite(x)]
+    if not v:
+        return math.nan, math.nan
+    m = sum(v) / len(v)
+    if len(v) < 20:
+        return m, math.nan
+    n = len(v) // batches
+    skip = len(v) - n * batches
+    bm = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
+    mb = sum(bm) / batches
+    return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
+
+
+def volume_scaled_phi_e(folder, radius, from_strain):
+    """Phi_e for runs made before the tracker scaled the axes to the particle
+    volume (particles.csv without axes_scale_mean): b_xy^3 scaled by
+    r^3 / (a b c) from the per-sample means (exact for one particle)."""
+    path = os.path.join(folder, "particles.csv")
+    if not os.path.exists(path):
+        return None
+    rows = list(csv.DictReader(open(path)))
+    if not rows or "axes_scale_mean" in rows[0]:
+        return None
+    v = [float(r["phi_e"]) * radius ** 3 / (float(r["a_mean"]) * float(r["b_mean"]) * float(r["c_mean"]))
+         for r in rows if int(r["step"]) > 0 and float(r["strain"]) >= from_strain - 1e-12]
+    return batch_mean(v)
+
+
 def collect(names, args, ref):
     rows = []
     for name in names:
@@ -141,11 +177,15 @@ def collect(names, args, ref):
                "ppr": round(g[0] / s["case"]["box"][0] * s["case"]["particles"]["radius"], 3),
                "grid": "x".join(map(str, g)), "box": "x".join(map(str, s["case"]["box"])),
                "particles": s["case"]["particles"]["count"], "strain": s["final"]["strain"],
+               "steps": s["final"]["step"],
                "from_strain": a.get("from_strain"), "steps_this_run": s["performance"]["steps"],
                "wall_seconds_this_run": s["performance"]["wall_seconds"], "version": s["code"]["version"]}
         for k in QUANTITIES:
             v = q.get(k) or {}
             row[k], row[k + "_stderr"] = v.get("mean"), v.get("stderr")
+        old = volume_scaled_phi_e(folder, s["case"]["particles"]["radius"], a.get("from_strain", 0))
+        if old:
+            row["phi_e"], row["phi_e_stderr"] = old
         for k in BUDGET:
             v = (q.get("budget_share") or {}).get(k) or {}
             row["share_" + k], row["share_" + k + "_stderr"] = v.get("mean"), v.get("stderr")
@@ -174,6 +214,8 @@ def main():
     ap.add_argument("--build", default=os.environ.get("SOFTFLOW_BUILD", "build"))
     ap.add_argument("--progress-every", type=int, default=100)
     ap.add_argument("--collect-only", action="store_true")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a further case-file override for every case (repeatable)")
     args = ap.parse_args()
     ref = reference_cases()
     names = select(args.cases, ref)
@@ -183,7 +225,7 @@ def main():
         subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "setup"], check=True)
         subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "bash", "-c",
                         f'cmake -S . -B "{args.build}" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null && '
-                        f'cmake --build "{args.build}" >/dev/null'], check=True)
+                        f'cmake --build "{args.build}" --target softflow >/dev/null'], check=True)
         todo = []
         for name in names:
             s = done_strain(os.path.join(args.out, name))

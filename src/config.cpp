@@ -244,8 +244,11 @@ Config parse_config(const std::string& text, const std::string& name,
         r.read("placement", p.placement, false);
         if (p.placement != "random" && p.placement != "centre")
           throw InputError("'particles.placement' must be \"random\" or \"centre\"");
-        if (p.placement == "centre" && !(has_n && p.count == 1))
-          throw InputError("'particles.placement = \"centre\"' needs 'particles.count = 1'");
+        // one sphere, given as count = 1 or by a volume fraction of one sphere in the box
+        const double one = 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius / (c.grid.lx * c.grid.ly * c.grid.lz);
+        if (p.placement == "centre" && !(has_n ? p.count == 1 : std::lround(p.volume_fraction / one) == 1))
+          throw InputError("'particles.placement = \"centre\"' needs one sphere ('particles.count = 1', or a "
+                           "volume fraction that rounds to one sphere)");
         r.read("min_gap", p.min_gap, false);
         r.non_negative("min_gap", p.min_gap);
         long seed = 1;

@@ -131,7 +131,9 @@ Real FlowSolver::stable_dt(DtLimit* which) {
   const Real dt_visc = implicit_ ? Real(1e300)
                                  : 2.51 / (4 * cfg_.nu() * kmax *
                                            (1 / (g.dx * g.dx) + 1 / (g.dy * g.dy) + 1 / (g.dz * g.dz)));
-  const Real dt_el = solid_ ? solid_->elastic_dt() : Real(1e300);
+  Real stretch = solid_ ? solid_->max_stretch() : Real(1);
+  if (solid_) MPI_Allreduce(MPI_IN_PLACE, &stretch, 1, MPI_DOUBLE, MPI_MAX, dec_.comm);
+  const Real dt_el = solid_ ? solid_->elastic_dt(stretch) : Real(1e300);
   const Real lim = std::min({dt_adv, dt_visc, dt_el});
   Real dt = cfg_.time.cfl * lim;
   DtLimit l = lim == dt_adv ? DtLimit::advective : lim == dt_visc ? DtLimit::viscous : DtLimit::elastic;

@@ -107,6 +107,13 @@ void ParticleTracker::update() {
     const double tr = 0.5 * (cxx + cyy), dif = std::sqrt(0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy);
     p.a_xy = std::sqrt(5 * std::max(tr + dif, 0.0));
     p.b_xy = std::sqrt(5 * std::max(tr - dif, 0.0));
+    // The diffuse interface's tails inflate the second moments alike in every
+    // direction: the moments give the shape, the particle's volume its size.
+    // Scale the axes so that (4/3) pi a b c is that volume (T is unchanged).
+    const double abc = p.a * p.b * p.c;
+    p.axes_scale = abc > 0 ? std::cbrt(p.volume / (4.0 / 3.0 * M_PI * abc)) : 1.0;
+    p.a *= p.axes_scale, p.b *= p.axes_scale, p.c *= p.axes_scale;
+    p.a_xy *= p.axes_scale, p.b_xy *= p.axes_scale;
     p.taylor = (p.a_xy - p.b_xy) / (p.a_xy + p.b_xy);
     p.angle = 0.5 * std::atan2(2 * cxy, cxx - cyy);
   }

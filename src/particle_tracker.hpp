@@ -21,7 +21,9 @@ namespace softflow {
 struct ParticleShape {
   double x = 0, y = 0, z = 0;  // centroid
   double volume = 0;           // sum of phi dV of its cells
-  double a = 0, b = 0, c = 0;  // semi-axes from the 3-D second moments, a >= b >= c
+  double a = 0, b = 0, c = 0;  // semi-axes from the 3-D second moments, a >= b >= c,
+                               // scaled so that (4/3) pi a b c = volume
+  double axes_scale = 1;       // that scale (the moments' inflation by the diffuse interface, inverted)
   double a_xy = 0, b_xy = 0;   // semi-axes of the x-y section (the x-y block of the moments)
   double taylor = 0;           // (a_xy - b_xy) / (a_xy + b_xy)
   double angle = 0;            // inclination of the x-y major axis to x, radians

@@ -34,8 +34,11 @@ class SolidPhase {
   const SolidFields& fields() const { return q_; }
   const MixtureStress& stress() const { return stress_; }
   const std::vector<Sphere>& spheres() const { return spheres_; }
-  // dt limit of the explicit elastic waves (sqrt(G / rho))
-  Real elastic_dt() const;
+  // dt limit of the explicit elastic waves for a given stretch (below)
+  Real elastic_dt(Real stretch) const;
+  // max over this rank's cells of phi lambda_max(B) (Gershgorin bound), at
+  // least 1: a neo-Hookean solid's wave speed is sqrt(G lambda_max(B) / rho)
+  Real max_stretch() const;
 
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
   // private or protected member functions
