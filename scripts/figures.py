@@ -106,7 +106,7 @@ def main():
 
     # T against Ca, per Phi
     fig, ax = plt.subplots(figsize=(5.5, 4))
-    ca = np.logspace(-2, 0.5, 50)
+    ca = np.logspace(-2, np.log10(0.5), 50)
     ax.plot(ca, 1.25 * ca, "k:", lw=1, label="small deformation, 5/4 Ca")
     for n, (phi, rs) in enumerate(by_phi.items()):
         c = cmap(n / max(1, len(by_phi) - 1))
@@ -116,7 +116,7 @@ def main():
         ax.fill_between(x, [r["taylor"] - r["taylor_spread"] for r in rs],
                         [r["taylor"] + r["taylor_spread"] for r in rs], color=c, alpha=0.15, lw=0)
     ax.set_xscale("log")
-    ax.set_ylim(0, None)
+    ax.set_ylim(0, 1)
     ax.set_xlabel("Ca")
     ax.set_ylabel("T = (a - b) / (a + b)")
     ax.set_title("bands: spread over the particles", fontsize=8)

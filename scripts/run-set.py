@@ -75,7 +75,8 @@ def case_overrides(name, args):
          f"grid.nx={n[0]}", f"grid.ny={n[1]}", f"grid.nz={n[2]}", f"walls.velocity={vw}",
          f"time.end_strain={args.strain}", f'time.viscous="{args.viscous}"',
          f'output.dir="{os.path.join(args.out, name)}"', "output.fields_every=0.0",
-         "output.checkpoint_every=200", f"output.progress_every={args.progress_every}"] + args.set
+         "output.checkpoint_every=200", f"output.progress_every={args.progress_every}",
+         f"output.series_every={args.series_every}"] + args.set
     return o, n
 
 
@@ -213,6 +214,8 @@ def main():
     ap.add_argument("--box", default=None)
     ap.add_argument("--build", default=os.environ.get("SOFTFLOW_BUILD", "build"))
     ap.add_argument("--progress-every", type=int, default=100)
+    # the averages want >= 20 samples after the transient even in short runs
+    ap.add_argument("--series-every", type=int, default=5)
     ap.add_argument("--collect-only", action="store_true")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="a further case-file override for every case (repeatable)")
