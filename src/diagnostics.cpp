@@ -15,22 +15,25 @@ enum RowQuantity { q_u, q_phi, q_fv, q_pv, q_el, q_uv_f, q_v_f, q_uv_p, q_v_p, q
 }  // namespace
 
 namespace detail {
-struct RowSums {
-  Real q[q_count];
-  KOKKOS_INLINE_FUNCTION RowSums() {
-    for (int m = 0; m < q_count; ++m) q[m] = 0;
+// N sums reduced in one pass (Kokkos::Sum of a small array)
+template <int N>
+struct Sums {
+  Real q[N];
+  KOKKOS_INLINE_FUNCTION Sums() {
+    for (int m = 0; m < N; ++m) q[m] = 0;
   }
-  KOKKOS_INLINE_FUNCTION RowSums& operator+=(const RowSums& o) {
-    for (int m = 0; m < q_count; ++m) q[m] += o.q[m];
+  KOKKOS_INLINE_FUNCTION Sums& operator+=(const Sums& o) {
+    for (int m = 0; m < N; ++m) q[m] += o.q[m];
     return *this;
   }
 };
+using RowSums = Sums<q_count>;
 }  // namespace detail
 }  // namespace softflow
 
-template <>
-struct Kokkos::reduction_identity<softflow::detail::RowSums> {
-  KOKKOS_FORCEINLINE_FUNCTION static softflow::detail::RowSums sum() { return {}; }
+template <int N>
+struct Kokkos::reduction_identity<softflow::detail::Sums<N>> {
+  KOKKOS_FORCEINLINE_FUNCTION static softflow::detail::Sums<N> sum() { return {}; }
 };
 
 namespace softflow {
@@ -138,35 +141,25 @@ void Diagnostics::normal_stress_differences(Real& n1, Real& n2) {
   const Real mu_f = c.fluid.mu, dmu = solid ? c.fluid.mu * (c.particles.viscosity_ratio - 1) : 0;
   const Real G = solid ? c.shear_modulus() : 0;
   const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
-  auto normal = KOKKOS_LAMBDA(int i, int j, int k, Real& s11, Real& s22, Real& s33) {
-    const Real f = solid ? fraction(phi(i, j, k)) : Real(0), mu = mu_f + dmu * f;
-    s11 = 2 * mu * (u(i, j, k) - u(i - 1, j, k)) * idx;
-    s22 = 2 * mu * (v(i, j, k) - v(i, j - 1, k)) * idy;
-    s33 = 2 * mu * (w(i, j, k) - w(i, j, k - 1)) * idz;
-    if (solid) {
-      s11 += G * f * (bxx(i, j, k) - 1);
-      s22 += G * f * (byy(i, j, k) - 1);
-      s33 += G * f * (bzz(i, j, k) - 1);
-    }
-  };
-  n1 = 0, n2 = 0;
+  // sigma_11 - sigma_22 and sigma_22 - sigma_33 at the cell centres, in one pass
+  detail::Sums<2> sums;
   par_reduce(
-      "diagnostics_n1", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
-        Real s11, s22, s33;
-        normal(i, j, k, s11, s22, s33);
-        a += s11 - s22;
+      "diagnostics_normal_stress_differences", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, detail::Sums<2>& a) {
+        const Real f = solid ? fraction(phi(i, j, k)) : Real(0), mu = mu_f + dmu * f;
+        Real s11 = 2 * mu * (u(i, j, k) - u(i - 1, j, k)) * idx;
+        Real s22 = 2 * mu * (v(i, j, k) - v(i, j - 1, k)) * idy;
+        Real s33 = 2 * mu * (w(i, j, k) - w(i, j, k - 1)) * idz;
+        if (solid) {
+          s11 += G * f * (bxx(i, j, k) - 1);
+          s22 += G * f * (byy(i, j, k) - 1);
+          s33 += G * f * (bzz(i, j, k) - 1);
+        }
+        a.q[0] += s11 - s22;
+        a.q[1] += s22 - s33;
       },
-      Kokkos::Sum<Real>(n1));
-  par_reduce(
-      "diagnostics_n2", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
-        Real s11, s22, s33;
-        normal(i, j, k, s11, s22, s33);
-        a += s22 - s33;
-      },
-      Kokkos::Sum<Real>(n2));
-  Real b[2] = {n1, n2};
+      Kokkos::Sum<detail::Sums<2>>(sums));
+  Real b[2] = {sums.q[0], sums.q[1]};
   MPI_Allreduce(MPI_IN_PLACE, b, 2, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
   const Real cells = Real(g.cells_global());
   n1 = b[0] / cells, n2 = b[1] / cells;

@@ -119,8 +119,12 @@ Real FlowSolver::stable_dt(DtLimit* which) {
   // RK3 is stable for imaginary eigenvalues up to sqrt(3) and negative real
   // ones down to -2.51; the 7-point Laplacian's extreme eigenvalue is
   // -4 nu (1/dx^2 + 1/dy^2 + 1/dz^2).
-  Real rate = max_advective_rate(grid_, state_);
-  MPI_Allreduce(MPI_IN_PLACE, &rate, 1, MPI_DOUBLE, MPI_MAX, dec_.comm);
+  // the advective rate and, with particles, the solid's stretch (for the
+  // elastic waves): one reduction over the ranks
+  Real local[2] = {max_advective_rate(grid_, state_), solid_ ? solid_->max_stretch() : Real(1)};
+  MPI_Allreduce(MPI_IN_PLACE, local, 2, MPI_DOUBLE, MPI_MAX, dec_.comm);
+  Real rate = local[0];
+  const Real stretch = local[1];
   const Grid& g = grid_;
   // implicit viscosity has no viscous limit; the walls' speed bounds the
   // advective rate from below, so a flow starting from rest gets a finite step
@@ -131,8 +135,6 @@ Real FlowSolver::stable_dt(DtLimit* which) {
   const Real dt_visc = implicit_ ? Real(1e300)
                                  : 2.51 / (4 * cfg_.nu() * kmax *
                                            (1 / (g.dx * g.dx) + 1 / (g.dy * g.dy) + 1 / (g.dz * g.dz)));
-  Real stretch = solid_ ? solid_->max_stretch() : Real(1);
-  if (solid_) MPI_Allreduce(MPI_IN_PLACE, &stretch, 1, MPI_DOUBLE, MPI_MAX, dec_.comm);
   const Real dt_el = solid_ ? solid_->elastic_dt(stretch) : Real(1e300);
   const Real lim = std::min({dt_adv, dt_visc, dt_el});
   Real dt = cfg_.time.cfl * lim;
