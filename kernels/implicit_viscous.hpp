@@ -41,6 +41,7 @@ struct StageTerms {
   MomentumRhs force_now, force_before;   // elastic force, end and start of the stage
   Field3 phi;                            // solid fraction (for R)
   MixtureStress stress;                  // nu(phi) of the mixture (for R)
+  Range3 solid_region{};                 // where F or R can be nonzero
 };
 
 // The three Helmholtz right-hand sides, in the Poisson solver's y-pencil order.
@@ -68,20 +69,23 @@ inline void implicit_predictor(const Grid& g, const FlowState& s, const StageTer
     if (j < vtop)
       xv = v(i, j, k) + c.gdt * nv(i, j, k) + c.zdt * bv(i, j, k) + c.beta * op.lap(v, i, j, k) -
            c.adt * (p(i, j + 1, k) - p(i, j, k)) * idy;
-    if (solid) {
-      xu += c.cdt * (fu(i, j, k) + eu(i, j, k)) +
-            c.adt * (st.viscous_u(u, v, w, phi, i, j, k) - c.nu0 * op.lap(u, i, j, k));
-      xw += c.cdt * (fw(i, j, k) + ew(i, j, k)) +
-            c.adt * (st.viscous_w(u, v, w, phi, i, j, k) - c.nu0 * op.lap(w, i, j, k));
-      if (j < vtop)
-        xv += c.cdt * (fv(i, j, k) + ev(i, j, k)) +
-              c.adt * (st.viscous_v(u, v, w, phi, i, j, k) - c.nu0 * op.lap(v, i, j, k));
-    }
     if (j == ng) xu += wall_lo;
     if (j == vtop) xu += wall_hi;
     ru(m) = xu;
     rv(m) = xv;
     rw(m) = xw;
+  });
+  if (!solid) return;
+  // the elastic force and the viscous remainder R, only where they can be nonzero
+  par_for("implicit_predictor_solid", t.solid_region, KOKKOS_LAMBDA(int i, int j, int k) {
+    const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
+    ru(m) += c.cdt * (fu(i, j, k) + eu(i, j, k)) +
+             c.adt * (st.viscous_u(u, v, w, phi, i, j, k) - c.nu0 * op.lap(u, i, j, k));
+    rw(m) += c.cdt * (fw(i, j, k) + ew(i, j, k)) +
+             c.adt * (st.viscous_w(u, v, w, phi, i, j, k) - c.nu0 * op.lap(w, i, j, k));
+    if (j < vtop)
+      rv(m) += c.cdt * (fv(i, j, k) + ev(i, j, k)) +
+               c.adt * (st.viscous_v(u, v, w, phi, i, j, k) - c.nu0 * op.lap(v, i, j, k));
   });
 }
 

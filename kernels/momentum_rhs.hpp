@@ -82,18 +82,23 @@ inline void momentum_rhs(const Grid& g, const FlowState& s, Real nu, const Manuf
 
 namespace softflow {
 
-// N(u) of the one-continuum mixture: -div(u u) + div(2 mu(phi) D) / rho
+// The mixture's viscous term in excess of the fluid's, added to rhs:
+//   div(2 mu(phi) D) / rho - nu_f L u
+// so that momentum_rhs(nu_f) plus this is N(u) of the one-continuum mixture
 // (the elastic force is added separately, Crank-Nicolson across the stage).
-inline void momentum_rhs_mixture(const Grid& g, const FlowState& s, const MixtureStress& st,
-                                 const Field3& phi, const MomentumRhs& rhs) {
+// It vanishes (to round-off: nu_f grad div u) where phi = 0 around the face,
+// so `region` needs to cover phi's support and one cell more.
+inline void momentum_viscous_excess(const Grid& g, const FlowState& s, const MixtureStress& st,
+                                    const Field3& phi, const MomentumRhs& rhs, const Range3& region) {
   const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz};
   auto u = s.u, v = s.v, w = s.w;
   auto ru = rhs.u, rv = rhs.v, rw = rhs.w;
   const int vtop = Grid::ng + g.ny - 1;
-  par_for("momentum_rhs_mixture", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    ru(i, j, k) = -op.adv_u(u, v, w, i, j, k) + st.viscous_u(u, v, w, phi, i, j, k);
-    rw(i, j, k) = -op.adv_w(u, v, w, i, j, k) + st.viscous_w(u, v, w, phi, i, j, k);
-    rv(i, j, k) = j < vtop ? -op.adv_v(u, v, w, i, j, k) + st.viscous_v(u, v, w, phi, i, j, k) : Real(0);
+  const Real nu_f = st.nu_f;
+  par_for("momentum_viscous_excess", region, KOKKOS_LAMBDA(int i, int j, int k) {
+    ru(i, j, k) += st.viscous_u(u, v, w, phi, i, j, k) - nu_f * op.lap(u, i, j, k);
+    rw(i, j, k) += st.viscous_w(u, v, w, phi, i, j, k) - nu_f * op.lap(w, i, j, k);
+    if (j < vtop) rv(i, j, k) += st.viscous_v(u, v, w, phi, i, j, k) - nu_f * op.lap(v, i, j, k);
   });
 }
 

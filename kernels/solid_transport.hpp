@@ -64,11 +64,11 @@ KOKKOS_INLINE_FUNCTION Real stencil_max(const Field3& phi, int i, int j, int k) 
 }
 
 inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const SolidFields& f,
-                                const SolidFields& rhs) {
+                                const SolidFields& rhs, const Range3& region) {
   const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
   auto u = flow.u, v = flow.v, w = flow.w;
   const SolidViews q(f), r(rhs);
-  par_for("solid_transport_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+  par_for("solid_transport_rhs", region, KOKKOS_LAMBDA(int i, int j, int k) {
     const Real smax = stencil_max(q.phi, i, j, k);
     // phi == 0 on the whole stencil: every face flux of this cell is exactly
     // zero (WENO5 of zeros is zero), so skipping keeps exact conservation
@@ -91,10 +91,10 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
 // where phi < phi_fluid_cut: in pure fluid B has no meaning (its stress is
 // multiplied by phi) and, left alone in sheared fluid, would grow without
 // bound and leak into the interface through the WENO stencils.
-inline void solid_rk3_update(const Grid& g, const SolidFields& f, const SolidFields& now,
-                             const SolidFields& before, Real gdt, Real zdt) {
+inline void solid_rk3_update(const SolidFields& f, const SolidFields& now, const SolidFields& before,
+                             Real gdt, Real zdt, const Range3& region) {
   const SolidViews q(f), a(now), b(before);
-  par_for("solid_rk3_update", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+  par_for("solid_rk3_update", region, KOKKOS_LAMBDA(int i, int j, int k) {
     for (int m = 0; m < n_solid_fields; ++m)
       q.field(m)(i, j, k) += gdt * a.field(m)(i, j, k) + zdt * b.field(m)(i, j, k);
     if (q.phi(i, j, k) < phi_fluid_cut) {
@@ -103,7 +103,16 @@ inline void solid_rk3_update(const Grid& g, const SolidFields& f, const SolidFie
   });
 }
 
-// Keeps phi in [0, 1] without losing solid volume. With c = clamp(phi, 0, 1),
+// phi as kept: clamped to [0, 1], and 0 below phi_zero_cut. WENO5 leaves
+// tails of tiny positive values that would otherwise creep ~3 cells per stage
+// into the fluid and spread the solid region (kernels/solid_region.hpp) over
+// the box; their volume goes back to the interface like the clipped excess.
+constexpr Real phi_zero_cut = 1e-10;
+KOKKOS_INLINE_FUNCTION Real kept_phi(Real p) {
+  return p < phi_zero_cut ? Real(0) : Kokkos::fmin(Real(1), p);
+}
+
+// Keeps phi in [0, 1] without losing solid volume. With c = kept_phi(phi),
 // e = sum(phi - c) (the clipped volume, over all ranks) and W = sum c (1 - c),
 // phi <- c + (e / W) c (1 - c). The added amount is largest mid-interface and
 // vanishes where c is 0 or 1, and c + a c (1 - c) stays in [0, 1] for
@@ -113,28 +122,30 @@ inline void solid_rk3_update(const Grid& g, const SolidFields& f, const SolidFie
 // (allreduce_sum is a std::function, not a template parameter: nvcc rejects a
 // caller's local lambda type in the template arguments of a function that
 // holds extended lambdas)
-inline void phi_bounded_redistribution(const Grid& g, const SolidFields& f,
-                                       const std::function<void(Real*, int)>& allreduce_sum) {
+// Only `region` is visited: phi is 0 outside it (kernels/solid_region.hpp).
+inline void phi_bounded_redistribution(const SolidFields& f,
+                                       const std::function<void(Real*, int)>& allreduce_sum,
+                                       const Range3& region) {
   auto phi = f.phi();
   Real sums[2] = {0, 0};
   par_reduce(
-      "solid_phi_excess", g.interior(),
+      "solid_phi_excess", region,
       KOKKOS_LAMBDA(int i, int j, int k, Real& e) {
         const Real p = phi(i, j, k);
-        e += p - Kokkos::fmin(Real(1), Kokkos::fmax(Real(0), p));
+        e += p - kept_phi(p);
       },
       Kokkos::Sum<Real>(sums[0]));
   par_reduce(
-      "solid_phi_interface_weight", g.interior(),
+      "solid_phi_interface_weight", region,
       KOKKOS_LAMBDA(int i, int j, int k, Real& w) {
-        const Real c = Kokkos::fmin(Real(1), Kokkos::fmax(Real(0), phi(i, j, k)));
+        const Real c = kept_phi(phi(i, j, k));
         w += c * (1 - c);
       },
       Kokkos::Sum<Real>(sums[1]));
   allreduce_sum(sums, 2);
   const Real a = sums[1] > 0 ? Kokkos::fmax(Real(-1), Kokkos::fmin(Real(1), sums[0] / sums[1])) : Real(0);
-  par_for("solid_phi_redistribute", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    const Real c = Kokkos::fmin(Real(1), Kokkos::fmax(Real(0), phi(i, j, k)));
+  par_for("solid_phi_redistribute", region, KOKKOS_LAMBDA(int i, int j, int k) {
+    const Real c = kept_phi(phi(i, j, k));
     phi(i, j, k) = c + a * c * (1 - c);
   });
 }

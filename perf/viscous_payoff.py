@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Tabulates perf/viscous_payoff.sh: steps, wall time, T and mu/mu_f of the
-explicit and implicit viscous schemes, and the 3 -> 4 points-per-radius change
-as the scale of the discretization error. Writes payoff.csv and payoff.md in
-the folder given (default output/payoff)."""
+explicit and implicit viscous schemes at R points per radius, and the
+R - 1 -> R change as the scale of the discretization error. Writes
+payoff_rR.csv and payoff_rR.md in the folder given.
+
+    perf/viscous_payoff.py [FOLDER (default output/payoff)] [R (default 4)]"""
 import csv
 import json
 import os
@@ -28,10 +30,12 @@ def fmt(v):
 
 def main():
     folder = sys.argv[1] if len(sys.argv) > 1 else "output/payoff"
+    r = int(sys.argv[2]) if len(sys.argv) > 2 else 4
+    fine_e, fine_i, coarse = f"explicit_r{r}", f"implicit_r{r}", f"implicit_r{r - 1}"
     rows = []
     for case in ("dilute", "dense"):
-        runs = {k: load(folder, f"{case}_{k}") for k in ("explicit_r4", "implicit_r4", "implicit_r3")}
-        if not runs["explicit_r4"] or not runs["implicit_r4"]:
+        runs = {k: load(folder, f"{case}_{k}") for k in (fine_e, fine_i, coarse)}
+        if not runs[fine_e] or not runs[fine_i]:
             continue
         for k, s in runs.items():
             if not s:
@@ -42,7 +46,7 @@ def main():
                          "ms_per_step": round(1e3 * p["wall_seconds"] / p["steps"], 1),
                          "taylor": q(s, "taylor"), "mu_eff": q(s, "mu_eff"),
                          "from_strain": s["averages"]["from_strain"], "to_strain": s["averages"]["to_strain"]})
-    with open(os.path.join(folder, "payoff.csv"), "w", newline="") as f:
+    with open(os.path.join(folder, f"payoff_r{r}.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["case", "run", "grid", "steps", "wall_s", "ms_per_step", "taylor", "taylor_stderr",
                     "mu_eff", "mu_eff_stderr", "from_strain", "to_strain"])
@@ -56,18 +60,18 @@ def main():
     lines.append("")
     for case in ("dilute", "dense"):
         by = {r["run"]: r for r in rows if r["case"] == case}
-        if "explicit_r4" not in by or "implicit_r4" not in by:
+        if fine_e not in by or fine_i not in by:
             continue
-        e, i = by["explicit_r4"], by["implicit_r4"]
+        e, i = by[fine_e], by[fine_i]
         line = (f"- {case}: implicit takes {e['steps'] / i['steps']:.1f}x fewer steps and "
                 f"{e['wall_s'] / i['wall_s']:.1f}x less wall time; |dT| = {abs(e['taylor'][0] - i['taylor'][0]):.4f}, "
                 f"|d mu| = {abs(e['mu_eff'][0] - i['mu_eff'][0]):.4f}")
-        if "implicit_r3" in by:
-            c = by["implicit_r3"]
-            line += (f"; the 3 -> 4 points-per-radius change (spatial error scale): "
+        if coarse in by:
+            c = by[coarse]
+            line += (f"; the {r - 1} -> {r} points-per-radius change (spatial error scale): "
                      f"|dT| = {abs(c['taylor'][0] - i['taylor'][0]):.4f}, |d mu| = {abs(c['mu_eff'][0] - i['mu_eff'][0]):.4f}")
         lines.append(line)
-    open(os.path.join(folder, "payoff.md"), "w").write("\n".join(lines) + "\n")
+    open(os.path.join(folder, f"payoff_r{r}.md"), "w").write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 

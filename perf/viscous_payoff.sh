@@ -7,6 +7,7 @@
 #
 #   perf/viscous_payoff.sh [STRAIN]     (default 3; output in output/payoff/)
 # ONLY=implicit (or explicit) reruns one scheme's runs and keeps the others.
+# PPR=5 runs at 5 points per radius (and the coarse runs at PPR - 1); default 4.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 strain=${1:-3}
@@ -24,15 +25,19 @@ run() {  # name, case file, scheme, overrides...
     --set output.progress_every=200 --set output.average_from_strain=1.5 "$@" \
     > "output/payoff/$name.log" 2>&1
 }
-dilute=(cases/phi0016_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64)
-dilute3=(cases/phi0016_ca02.toml --set grid.nx=48 --set grid.ny=30 --set grid.nz=48)
-dense=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0)
-dense3=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0 --set grid.nx=24 --set grid.ny=18 --set grid.nz=24)
-(run dilute_explicit_r4 "${dilute[0]}" explicit "${dilute[@]:1}") &
-(run dilute_implicit_r4 "${dilute[0]}" implicit "${dilute[@]:1}"
- run dense_explicit_r4 "${dense[0]}" explicit "${dense[@]:1}"
- run dense_implicit_r4 "${dense[0]}" implicit "${dense[@]:1}"
- run dilute_implicit_r3 "${dilute3[0]}" implicit "${dilute3[@]:1}"
- run dense_implicit_r3 "${dense3[0]}" implicit "${dense3[@]:1}") &
+r=${PPR:-4}
+c=$((r - 1))
+grid() { echo --set grid.nx=$(($1 * $2)) --set grid.ny=$(($1 * $3)) --set grid.nz=$(($1 * $2)); }
+# dilute: the reference box 16r x 10r x 16r; dense: its case's box 8r x 6r x 8r
+dilute=(cases/phi0016_ca02.toml $(grid $r 16 10))
+dilute_c=(cases/phi0016_ca02.toml $(grid $c 16 10))
+dense=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0 $(grid $r 8 6))
+dense_c=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0 $(grid $c 8 6))
+(run dilute_explicit_r$r "${dilute[0]}" explicit "${dilute[@]:1}") &
+(run dilute_implicit_r$r "${dilute[0]}" implicit "${dilute[@]:1}"
+ run dense_explicit_r$r "${dense[0]}" explicit "${dense[@]:1}"
+ run dense_implicit_r$r "${dense[0]}" implicit "${dense[@]:1}"
+ run dilute_implicit_r$c "${dilute_c[0]}" implicit "${dilute_c[@]:1}"
+ run dense_implicit_r$c "${dense_c[0]}" implicit "${dense_c[@]:1}") &
 wait
-python3 perf/viscous_payoff.py output/payoff
+python3 perf/viscous_payoff.py output/payoff "$r"

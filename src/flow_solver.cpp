@@ -178,7 +178,10 @@ void FlowSolver::explicit_stage(int s, Real dt) {
   const Real gdt = Rk3::gamma[s] * dt, zdt = Rk3::zeta[s] * dt, adt = Rk3::alpha[s] * dt;
   const Real t_end = time + Rk3::c_end[s] * dt;
   if (solid_) {
-    momentum_rhs_mixture(grid_, state_, solid_->stress(), solid_->fields().phi(), rhs_now_);
+    // the fluid's terms over the box, the mixture's excess viscosity near the solid only
+    momentum_rhs(grid_, state_, cfg_.nu(), mms_, time + Rk3::c[s] * dt, rhs_now_);
+    momentum_viscous_excess(grid_, state_, solid_->stress(), solid_->fields().phi(), rhs_now_,
+                            solid_->force_region());
     solid_->advance_stage(state_, gdt, zdt);
     rk3_update_cn(grid_, state_, rhs_now_, rhs_before_, gdt, zdt, solid_->force_now(),
                   solid_->force_before(), adt / 2);
@@ -206,6 +209,8 @@ void FlowSolver::implicit_stage(int s, Real dt) {
     solid_->advance_stage(state_, c.gdt, c.zdt);
     t.force_now = solid_->force_now(), t.force_before = solid_->force_before();
     t.phi = solid_->fields().phi(), t.stress = solid_->stress();
+    // R = div(2 nu(phi) D) - nu0 L u vanishes away from the solid only if nu0 = nu_f
+    t.solid_region = nu0_ == cfg_.nu() ? solid_->force_region() : grid_.interior();
   }
   implicit_predictor(grid_, state_, t, c, helm_u_, helm_v_, helm_w_);
   if (solid_) solid_->end_stage();
@@ -218,6 +223,7 @@ void FlowSolver::implicit_stage(int s, Real dt) {
 }
 
 void FlowSolver::advance(Real dt) {
+  if (solid_) solid_->begin_step();
   for (int s = 0; s < Rk3::stages; ++s) {
     if (implicit_)
       implicit_stage(s, dt);

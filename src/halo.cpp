@@ -1,5 +1,7 @@
 #include "halo.hpp"
 
+#include <Kokkos_Profiling_ScopedRegion.hpp>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -24,6 +26,7 @@ size_t Halo::bytes_per_field() const {
 
 void Halo::exchange(std::initializer_list<Field3> fields) {
   if (fields.size() > size_t(max_fields)) throw std::logic_error("Halo::exchange: too many fields");
+  Kokkos::Profiling::ScopedRegion region("halo_exchange");
   Field3 f[max_fields];
   int nf = 0;
   for (const auto& x : fields) f[nf++] = x;
@@ -82,6 +85,7 @@ void Halo::exchange_dir(int dir, const Field3* f, int nf) {
   MPI_Comm comm = dir == 0 ? dec_.xcomm : dec_.zcomm;
   int lo = dir == 0 ? left_x_ : left_z_, hi = dir == 0 ? right_x_ : right_z_;
   int count = int(nf * slab);
+  bytes_sent_ += 2 * size_t(count) * sizeof(Real);
   MPI_Request req[4];
   MPI_Irecv(recv_lo_.recv_ptr(), count, MPI_DOUBLE, lo, 1, comm, &req[0]);
   MPI_Irecv(recv_hi_.recv_ptr(), count, MPI_DOUBLE, hi, 0, comm, &req[1]);

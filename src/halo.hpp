@@ -17,6 +17,8 @@ class Halo {
   void exchange(std::initializer_list<Field3> fields);
   // bytes sent per exchange of one field (for the perf harness)
   size_t bytes_per_field() const;
+  // bytes sent to other ranks by all exchanges so far (for the perf harness)
+  size_t bytes_sent() const { return bytes_sent_; }
   MPI_Comm comm() const { return dec_.comm; }
 
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
@@ -28,6 +30,7 @@ class Halo {
   Grid g_;
   int left_x_, right_x_, left_z_, right_z_;
   MpiBuffer send_lo_, send_hi_, recv_lo_, recv_hi_;
+  size_t bytes_sent_ = 0;
 };
 
 }  // namespace softflow

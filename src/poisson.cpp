@@ -1,5 +1,7 @@
 #include "poisson.hpp"
 
+#include <Kokkos_Profiling_ScopedRegion.hpp>
+
 #include <cmath>
 
 namespace softflow {
@@ -31,18 +33,24 @@ PoissonSolver::PoissonSolver(const Decomposition& dec, const Grid& g)
       fft_z_(g.nz, long(dec.nxl) * dec.ny_z, z_) {}
 
 void PoissonSolver::solve(const Array1& y, const LineOperator& op) {
+  // regions name the parts for the perf harness (perf/kernel_timer.hpp)
+  Kokkos::Profiling::ScopedRegion region("poisson_solve");
+  auto fft = [](LineFft& f, bool forward) {
+    Kokkos::Profiling::ScopedRegion r("fft");
+    forward ? f.forward() : f.backward();
+  };
   tr_.y_to_x(y, x_);
-  fft_x_.forward();
+  fft(fft_x_, true);
   tr_.x_to_y(x_, y);
   tr_.y_to_z(y, z_);
-  fft_z_.forward();
+  fft(fft_z_, true);
   tr_.z_to_y(z_, y);
   tridiagonal(y, op);
   tr_.y_to_z(y, z_);
-  fft_z_.backward();
+  fft(fft_z_, false);
   tr_.z_to_y(z_, y);
   tr_.y_to_x(y, x_);
-  fft_x_.backward();
+  fft(fft_x_, false);
   tr_.x_to_y(x_, y);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <utility>
 
+#include "../kernels/solid_region.hpp"
 #include "../kernels/solid_transport.hpp"
 
 namespace softflow {
@@ -38,7 +39,7 @@ Real SolidPhase::max_stretch() const {
   const SolidViews q(q_);
   Real m = 1;
   par_reduce(
-      "solid_max_stretch", g_.interior(),
+      "solid_max_stretch", region_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
         const Real xx = q.b0(i, j, k), xy = Kokkos::fabs(q.b1(i, j, k)), xz = Kokkos::fabs(q.b2(i, j, k)),
                    yy = q.b3(i, j, k), yz = Kokkos::fabs(q.b4(i, j, k)), zz = q.b5(i, j, k);
@@ -118,29 +119,63 @@ void SolidPhase::fill_ghosts() {
   apply_solid_walls(g_, q_);
 }
 
-void SolidPhase::elastic_force(const MomentumRhs& out) {
+void SolidPhase::elastic_force(const MomentumRhs& out, const Range3& where) {
   const MixtureStress st = stress_;
   const SolidViews q(q_);
   auto fu = out.u, fv = out.v, fw = out.w;
   const int vtop = Grid::ng + g_.ny - 1;
-  par_for("solid_elastic_force", g_.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+  par_for("solid_elastic_force", where, KOKKOS_LAMBDA(int i, int j, int k) {
     fu(i, j, k) = st.elastic_u(q, i, j, k);
     fw(i, j, k) = st.elastic_w(q, i, j, k);
     fv(i, j, k) = j < vtop ? st.elastic_v(q, i, j, k) : Real(0);
   });
 }
 
-void SolidPhase::init_force() { elastic_force(force_before_); }
+void SolidPhase::init_force() {
+  begin_step();
+  for (const MomentumRhs* f : {&force_now_, &force_before_}) {
+    Kokkos::deep_copy(f->u, 0.0);
+    Kokkos::deep_copy(f->v, 0.0);
+    Kokkos::deep_copy(f->w, 0.0);
+  }
+  elastic_force(force_before_, force_region_);
+}
+
+void SolidPhase::begin_step() {
+  const Range3 old_force = force_region_;
+  if (!track_region_) {
+    region_ = force_region_ = g_.interior();
+  } else {
+    const IndexBox support = phi_support(g_, q_.phi());
+    region_ = grown_range(support, solid_region_margin, g_.interior());
+    force_region_ = grown_range(support, solid_region_margin + 1, g_.interior());
+  }
+  // the force arrays must hold 0 wherever the force kernel no longer writes
+  // (the force there is 0: phi's support lies inside the new region)
+  zero_outside(force_now_, old_force, force_region_);
+  zero_outside(force_before_, old_force, force_region_);
+}
+
+// f = 0 on the cells of old_region outside new_region
+void SolidPhase::zero_outside(const MomentumRhs& f, const Range3& old_region, const Range3& n) {
+  auto fu = f.u, fv = f.v, fw = f.w;
+  par_for("solid_force_clear", old_region, KOKKOS_LAMBDA(int i, int j, int k) {
+    if (i >= n.ib && i < n.ie && j >= n.jb && j < n.je && k >= n.kb && k < n.ke) return;
+    fu(i, j, k) = 0;
+    fv(i, j, k) = 0;
+    fw(i, j, k) = 0;
+  });
+}
 
 void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
-  solid_transport_rhs(g_, flow, q_, rhs_now_);
-  solid_rk3_update(g_, q_, rhs_now_, rhs_before_, gdt, zdt);
-  phi_bounded_redistribution(g_, q_, [this](Real* x, int n) {
-    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm());
-  });
+  solid_transport_rhs(g_, flow, q_, rhs_now_, region_);
+  solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_);
+  phi_bounded_redistribution(
+      q_, [this](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm()); },
+      region_);
   std::swap(rhs_now_, rhs_before_);
   fill_ghosts();
-  elastic_force(force_now_);
+  elastic_force(force_now_, force_region_);
 }
 
 }  // namespace softflow

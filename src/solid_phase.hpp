@@ -21,10 +21,20 @@ class SolidPhase {
   void seed();
   void fill_ghosts();
 
+  // Before each step: the region the solid can reach in it (phi's support
+  // grown by solid_region_margin, kernels/solid_region.hpp); phi and B are
+  // advanced there only, the elastic force one cell further.
+  void begin_step();
+  const Range3& region() const { return region_; }
+  const Range3& force_region() const { return force_region_; }
+  // off: the whole interior every step (the reference the region is tested against)
+  void set_region_tracking(bool on) { track_region_ = on; }
+
   // stage s, before the momentum update: advance phi and B from the velocity
   // of the previous stage; then compute the new elastic force
   void advance_stage(const FlowState& flow, Real gdt, Real zdt);
-  // the elastic force of the current phi, B into force_before() (start of a run or restart)
+  // the elastic force of the current phi, B into force_before() (start of a
+  // run, restart or a changed phi/B); also sets the region
   void init_force();
   // the stage's elastic force: (E_now + E_before) / 2, to be multiplied by alpha dt
   const MomentumRhs& force_now() const { return force_now_; }
@@ -42,7 +52,8 @@ class SolidPhase {
 
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
   // private or protected member functions
-  void elastic_force(const MomentumRhs& out);
+  void elastic_force(const MomentumRhs& out, const Range3& where);
+  void zero_outside(const MomentumRhs& f, const Range3& old_region, const Range3& new_region);
 
  private:
   const Config& cfg_;
@@ -52,6 +63,8 @@ class SolidPhase {
   MomentumRhs force_now_, force_before_;
   MixtureStress stress_;
   std::vector<Sphere> spheres_;
+  bool track_region_ = true;
+  Range3 region_{}, force_region_{};
 };
 
 }  // namespace softflow

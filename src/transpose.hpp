@@ -26,10 +26,13 @@ class Transposer {
   // bytes this rank sends per transpose through MPI (0 where the group is one rank)
   size_t bytes_x() const { return dec_.px > 1 ? y_size() * sizeof(Real) : 0; }
   size_t bytes_z() const { return dec_.pz > 1 ? y_size() * sizeof(Real) : 0; }
+  // bytes sent to other ranks by all transposes so far (for the perf harness)
+  size_t bytes_sent() const { return bytes_sent_; }
 
  private:
   const Decomposition& dec_;
   MpiBuffer send_, recv_;
+  size_t bytes_sent_ = 0;
 };
 
 }  // namespace softflow

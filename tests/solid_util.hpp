@@ -25,6 +25,7 @@ struct Vec3 {
 // One RK3 step of phi and B alone, in the velocity f prescribes at each stage's start.
 template <class F>
 void transport_step(FlowSolver& s, const F& f, double dt) {
+  s.solid()->begin_step();
   for (int st = 0; st < Rk3::stages; ++st) {
     set_velocity(s, f, s.time + Rk3::c[st] * dt);
     s.solid()->advance_stage(s.state(), Rk3::gamma[st] * dt, Rk3::zeta[st] * dt);

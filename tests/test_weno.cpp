@@ -106,7 +106,7 @@ TEST(Weno5, TransportOperatorIsFifthOrderInAllDirections) {
     SolidFields q(g, "q"), r(g, "r");
     const SolidViews qv(q);
     fill_smooth(g, qv, f);
-    solid_transport_rhs(g, s.state(), q, r);
+    solid_transport_rhs(g, s.state(), q, r, g.interior());
     double e = 0;
     for (int m = 0; m < n_solid_fields; ++m) {
       e = std::max(e, transport_error(g, r.q[m], f, m, vel));

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Performance regression gate: compare a softflow-perf result with a baseline.
+
+    perf/compare.py BASELINE.json NEW.json [--threshold F] [--min-share S]
+    perf/compare.py --noise RUN1.json RUN2.json [RUN3.json ...]
+
+Compares machine-normalised times, measured within each run: a kernel's (or
+the step's) median time divided by the time the same run's STREAM triad needs
+to move one Real per cell ("normalized" in the JSON), the smallest over the
+repetitions. Absolute times on shared machines drift with the load; the
+ratio of the least disturbed repetition drifts much less.
+
+Prints each kernel's change against the baseline and exits 1 when the step, or
+a kernel taking at least --min-share of the step, is slower by more than the
+threshold. The threshold defaults to the one in gate.json next to the baseline
+(set above the noise measured with --noise), else 0.25. Exits 2 when the two
+runs are not comparable (case, grid, ranks, backend or harness differ).
+"""
+import argparse
+import json
+import os
+import statistics
+import sys
+
+# the least disturbed repetition: interference only ever adds time
+STAT = "min"
+SAME = ("case", "grid", "ranks", "backend", "harness_version", "physics")
+
+
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def entries(run):
+    """name -> (normalized time, share of step) for the step and each kernel."""
+    out = {"<step>": (run["step"]["normalized"][STAT], 1.0)}
+    for label, k in run["kernels"].items():
+        out[label] = (k["normalized"][STAT], k["share_of_step"])
+    return out
+
+
+def noise(paths):
+    runs = [entries(load(p)) for p in paths]
+    names = set.intersection(*(set(r) for r in runs))
+    worst = 0.0
+    print(f"{'kernel':34s} {'share':>7s} {'spread':>8s}")
+    for n in sorted(names, key=lambda n: -runs[0][n][1]):
+        vals = [r[n][0] for r in runs]
+        share = statistics.median(r[n][1] for r in runs)
+        spread = (max(vals) - min(vals)) / statistics.median(vals)
+        print(f"{n:34s} {share:7.3f} {spread:8.3f}")
+        if share >= 0.02:
+            worst = max(worst, spread)
+    print(f"largest relative spread (max - min) / median over kernels with >= 2% of the step: {worst:.3f}")
+    return 0
+
+
+def compare(base_path, new_path, threshold, min_share):
+    base, new = load(base_path), load(new_path)
+    for key in SAME:
+        if base.get(key) != new.get(key):
+            print(f"compare: not comparable: '{key}' is {base.get(key)!r} in the baseline, {new.get(key)!r} now")
+            return 2
+    if threshold is None:
+        gate = os.path.join(os.path.dirname(os.path.abspath(base_path)), "gate.json")
+        threshold = load(gate)["threshold"] if os.path.exists(gate) else 0.25
+    b, n = entries(base), entries(new)
+    print(f"baseline {base['commit']} ({base['machine']['cpu']}), now {new['commit']}; threshold +{threshold:.0%}")
+    print(f"{'kernel':34s} {'share':>7s} {'base':>9s} {'now':>9s} {'change':>8s}")
+    failed = []
+    for name in sorted(b, key=lambda k: -b[k][1]):
+        if name not in n:
+            print(f"{name:34s} {b[name][1]:7.3f} {b[name][0]:9.3f} {'-':>9s}  (not run now)")
+            continue
+        change = n[name][0] / b[name][0] - 1
+        gated = name == "<step>" or b[name][1] >= min_share
+        flag = ""
+        if gated and change > threshold:
+            flag = "  REGRESSION"
+            failed.append(name)
+        elif not gated:
+            flag = "  (below min share, not gated)"
+        print(f"{name:34s} {b[name][1]:7.3f} {b[name][0]:9.3f} {n[name][0]:9.3f} {change:+8.1%}{flag}")
+    for name in sorted(set(n) - set(b)):
+        print(f"{name:34s} {n[name][1]:7.3f} {'-':>9s} {n[name][0]:9.3f}  (new kernel)")
+    cs_b = base["step"]["cell_steps_per_second"]["median"]
+    cs_n = new["step"]["cell_steps_per_second"]["median"]
+    print(f"cell-steps/s (absolute, for information): baseline {cs_b:.3e}, now {cs_n:.3e}")
+    if failed:
+        print("compare: FAILED: slower than the baseline beyond the threshold: " + ", ".join(failed))
+        return 1
+    print("compare: passed")
+    return 0
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("files", nargs="+")
+    ap.add_argument("--noise", action="store_true", help="report the spread of several runs of one build")
+    ap.add_argument("--threshold", type=float, default=None)
+    ap.add_argument("--min-share", type=float, default=0.02)
+    a = ap.parse_args()
+    if a.noise:
+        return noise(a.files)
+    if len(a.files) != 2:
+        ap.error("give BASELINE.json and NEW.json")
+    return compare(a.files[0], a.files[1], a.threshold, a.min_share)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
