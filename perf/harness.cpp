@@ -225,6 +225,10 @@ json run(const Options& o, MPI_Comm comm) {
                   {"viscous", cfg.time.viscous}};
   j["grid"] = {g.nx, g.ny, g.nz};
   j["solid_region_share_of_box"] = solid_share;
+  if (solid) {
+    const Range3 r = solid->region();
+    j["solid_region"] = {r.ib, r.ie, r.jb, r.je, r.kb, r.ke};  // storage indices, rank 0
+  }
   j["ranks"] = nranks;
   j["rank_grid"] = {solver.decomposition().px, solver.decomposition().pz};
   j["warmup"] = o.warmup;
