@@ -39,8 +39,9 @@ struct ImplicitStage {
 struct StageTerms {
   MomentumRhs now, before;               // N at this and the previous stage
   MomentumRhs force_now, force_before;   // elastic force, end and start of the stage
-  Field3 phi;                            // solid fraction (for R)
-  MixtureStress stress;                  // nu(phi) of the mixture (for R)
+  Field3 phi;                            // solid fraction (empty: no particles)
+  MixtureStress stress;                  // the mixture's stress operators (for R)
+  StoredNu nu;                           // nu(phi) around solid_region (for R)
   Range3 solid_region{};                 // where F or R can be nonzero
 };
 
@@ -59,6 +60,7 @@ inline void implicit_predictor(const Grid& g, const FlowState& s, const StageTer
   auto fu = t.force_now.u, fv = t.force_now.v, fw = t.force_now.w;
   auto eu = t.force_before.u, ev = t.force_before.v, ew = t.force_before.w;
   const MixtureStress st = t.stress;
+  const StoredNu n = t.nu;
   par_for("implicit_predictor", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
     const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
     Real xu = u(i, j, k) + c.gdt * nu(i, j, k) + c.zdt * bu(i, j, k) + c.beta * op.lap(u, i, j, k) -
@@ -80,12 +82,12 @@ inline void implicit_predictor(const Grid& g, const FlowState& s, const StageTer
   par_for("implicit_predictor_solid", t.solid_region, KOKKOS_LAMBDA(int i, int j, int k) {
     const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
     ru(m) += c.cdt * (fu(i, j, k) + eu(i, j, k)) +
-             c.adt * (st.viscous_u(u, v, w, phi, i, j, k) - c.nu0 * op.lap(u, i, j, k));
+             c.adt * (st.viscous_u(u, v, w, n, i, j, k) - c.nu0 * op.lap(u, i, j, k));
     rw(m) += c.cdt * (fw(i, j, k) + ew(i, j, k)) +
-             c.adt * (st.viscous_w(u, v, w, phi, i, j, k) - c.nu0 * op.lap(w, i, j, k));
+             c.adt * (st.viscous_w(u, v, w, n, i, j, k) - c.nu0 * op.lap(w, i, j, k));
     if (j < vtop)
       rv(m) += c.cdt * (fv(i, j, k) + ev(i, j, k)) +
-               c.adt * (st.viscous_v(u, v, w, phi, i, j, k) - c.nu0 * op.lap(v, i, j, k));
+               c.adt * (st.viscous_v(u, v, w, n, i, j, k) - c.nu0 * op.lap(v, i, j, k));
   });
 }
 

@@ -89,16 +89,16 @@ namespace softflow {
 // It vanishes (to round-off: nu_f grad div u) where phi = 0 around the face,
 // so `region` needs to cover phi's support and one cell more.
 inline void momentum_viscous_excess(const Grid& g, const FlowState& s, const MixtureStress& st,
-                                    const Field3& phi, const MomentumRhs& rhs, const Range3& region) {
+                                    const StoredNu& n, const MomentumRhs& rhs, const Range3& region) {
   const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz};
   auto u = s.u, v = s.v, w = s.w;
   auto ru = rhs.u, rv = rhs.v, rw = rhs.w;
   const int vtop = Grid::ng + g.ny - 1;
   const Real nu_f = st.nu_f;
   par_for("momentum_viscous_excess", region, KOKKOS_LAMBDA(int i, int j, int k) {
-    ru(i, j, k) += st.viscous_u(u, v, w, phi, i, j, k) - nu_f * op.lap(u, i, j, k);
-    rw(i, j, k) += st.viscous_w(u, v, w, phi, i, j, k) - nu_f * op.lap(w, i, j, k);
-    if (j < vtop) rv(i, j, k) += st.viscous_v(u, v, w, phi, i, j, k) - nu_f * op.lap(v, i, j, k);
+    ru(i, j, k) += st.viscous_u(u, v, w, n, i, j, k) - nu_f * op.lap(u, i, j, k);
+    rw(i, j, k) += st.viscous_w(u, v, w, n, i, j, k) - nu_f * op.lap(w, i, j, k);
+    if (j < vtop) rv(i, j, k) += st.viscous_v(u, v, w, n, i, j, k) - nu_f * op.lap(v, i, j, k);
   });
 }
 

@@ -12,7 +12,7 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       // kernels/momentum_rhs.hpp; the implicit stage's advection (nu = 0) reads the same arrays
       {"momentum_rhs", {3, 3, "r: u,v,w; w: ru,rv,rw"}},
       // near the solid only (force region): adds to ru, rv, rw
-      {"momentum_viscous_excess", {7, 3, "r: u,v,w,phi,ru,rv,rw; w: ru,rv,rw", Domain::solid_force}},
+      {"momentum_viscous_excess", {10, 3, "r: u,v,w,nu(4),ru,rv,rw; w: ru,rv,rw", Domain::solid_force}},
       // kernels/rk3_update.hpp: u, v, w read and written
       {"rk3_update", {9, 3, "r: u,v,w, N_now(3), N_before(3); w: u,v,w"}},
       {"rk3_update_cn", {15, 3, "r: u,v,w, N_now(3), N_before(3), F_now(3), F_before(3); w: u,v,w"}},
@@ -22,7 +22,7 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       {"projection_correct", {4, 3, "r: p (dp),u,v,w; w: u,v,w"}},
       // kernels/implicit_viscous.hpp; the particles' terms near the solid only (the whole box for K > 1)
       {"implicit_predictor", {10, 3, "r: u,v,w,p, N_now(3), N_before(3); w: helm_u,helm_v,helm_w"}},
-      {"implicit_predictor_solid", {13, 3, "r: u,v,w,phi, F_now(3), F_before(3), helm(3); w: helm(3)",
+      {"implicit_predictor_solid", {16, 3, "r: u,v,w,nu(4), F_now(3), F_before(3), helm(3); w: helm(3)",
                                     Domain::solid_force}},
       {"implicit_copy_velocity", {3, 3, "r: helm_u,helm_v,helm_w; w: u,v,w"}},
       {"implicit_pressure_update", {2, 1, "r: p,dp; w: p"}},
@@ -37,7 +37,9 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       {"solid_phi_interface_weight", {1, 0, "r: phi", Domain::solid}},
       {"solid_phi_redistribute", {1, 1, "r: phi; w: phi", Domain::solid}},
       // src/solid_phase.cpp: the elastic force uses all six components of B
-      {"solid_elastic_force", {7, 3, "r: phi,B(6); w: Fu,Fv,Fw", Domain::solid_force}},
+      {"solid_elastic_stress", {7, 6, "r: phi,B(6); w: tau(6)", Domain::solid_force}},
+      {"solid_elastic_force", {6, 3, "r: tau(6); w: Fu,Fv,Fw", Domain::solid_force}},
+      {"solid_viscosity", {1, 4, "r: phi; w: nu at centres and xy, xz, yz edges", Domain::solid_force}},
       {"solid_max_stretch", {7, 0, "r: phi,B(6)", Domain::solid}},
       // kernels/solid_region.hpp: phi over the whole storage, once per step
       {"solid_support_box", {1, 0, "r: phi", Domain::box}},

@@ -1,5 +1,6 @@
 #include "solid_phase.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -17,6 +18,9 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
       rhs_before_(g, "solid_rhs_before"),
       force_now_(g, "elastic_now"),
       force_before_(g, "elastic_before") {
+  auto f = [&](const char* name) { return Field3(name, g.sx(), g.sy(), g.sz()); };
+  tau_ = {f("tau_xx"), f("tau_xy"), f("tau_xz"), f("tau_yy"), f("tau_yz"), f("tau_zz")};
+  nu_ = {f("nu_centre"), f("nu_xy"), f("nu_xz"), f("nu_yz")};
   stress_.idx = 1 / g.dx;
   stress_.idy = 1 / g.dy;
   stress_.idz = 1 / g.dz;
@@ -119,15 +123,49 @@ void SolidPhase::fill_ghosts() {
   apply_solid_walls(g_, q_);
 }
 
+namespace {
+// one cell around r, within the storage (r is a part of the interior, so an
+// edge value at the widened range's top still has its +1 neighbours)
+Range3 widened(const Range3& r, const Range3& all) {
+  return {std::max(r.ib - 1, all.ib), std::min(r.ie + 1, all.ie), std::max(r.jb - 1, all.jb),
+          std::min(r.je + 1, all.je), std::max(r.kb - 1, all.kb), std::min(r.ke + 1, all.ke)};
+}
+}  // namespace
+
+const StoredNu& SolidPhase::viscosity(const Range3& where) {
+  if (where.size() <= 0) return nu_;
+  const NuFromPhi from{stress_.nu_f, stress_.dnu, q_.phi()};
+  const StoredNu n = nu_;
+  par_for("solid_viscosity", widened(where, g_.all()), KOKKOS_LAMBDA(int i, int j, int k) {
+    n.c(i, j, k) = from.centre(i, j, k);
+    n.exy(i, j, k) = from.xy(i, j, k);
+    n.exz(i, j, k) = from.xz(i, j, k);
+    n.eyz(i, j, k) = from.yz(i, j, k);
+  });
+  return nu_;
+}
+
 void SolidPhase::elastic_force(const MomentumRhs& out, const Range3& where) {
+  if (where.size() <= 0) return;
   const MixtureStress st = stress_;
-  const SolidViews q(q_);
+  const TauFromB from{st, SolidViews(q_)};
+  const StoredTau t = tau_;
+  // the stress where the force's stencils read it: one cell around `where`
+  const Range3 wide = widened(where, g_.all());
+  par_for("solid_elastic_stress", wide, KOKKOS_LAMBDA(int i, int j, int k) {
+    t.t0(i, j, k) = from(0, i, j, k);
+    t.t1(i, j, k) = from(1, i, j, k);
+    t.t2(i, j, k) = from(2, i, j, k);
+    t.t3(i, j, k) = from(3, i, j, k);
+    t.t4(i, j, k) = from(4, i, j, k);
+    t.t5(i, j, k) = from(5, i, j, k);
+  });
   auto fu = out.u, fv = out.v, fw = out.w;
   const int vtop = Grid::ng + g_.ny - 1;
   par_for("solid_elastic_force", where, KOKKOS_LAMBDA(int i, int j, int k) {
-    fu(i, j, k) = st.elastic_u(q, i, j, k);
-    fw(i, j, k) = st.elastic_w(q, i, j, k);
-    fv(i, j, k) = j < vtop ? st.elastic_v(q, i, j, k) : Real(0);
+    fu(i, j, k) = st.elastic_u(t, i, j, k);
+    fw(i, j, k) = st.elastic_w(t, i, j, k);
+    fv(i, j, k) = j < vtop ? st.elastic_v(t, i, j, k) : Real(0);
   });
 }
 

@@ -43,6 +43,9 @@ class SolidPhase {
 
   const SolidFields& fields() const { return q_; }
   const MixtureStress& stress() const { return stress_; }
+  // nu(phi) of the current phi at the cell centres and edges the viscous
+  // stencils of `where` (a part of the interior) read; returns the arrays
+  const StoredNu& viscosity(const Range3& where);
   const std::vector<Sphere>& spheres() const { return spheres_; }
   // dt limit of the explicit elastic waves for a given stretch (below)
   Real elastic_dt(Real stretch) const;
@@ -62,6 +65,8 @@ class SolidPhase {
   SolidFields q_, rhs_now_, rhs_before_;
   MomentumRhs force_now_, force_before_;
   MixtureStress stress_;
+  StoredTau tau_;  // the elastic stress at cell centres, the force kernel's input
+  StoredNu nu_;    // the mixture viscosity at centres and edges
   std::vector<Sphere> spheres_;
   bool track_region_ = true;
   Range3 region_{}, force_region_{};
