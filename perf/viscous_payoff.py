@@ -30,8 +30,8 @@ def fmt(v):
 
 def main():
     folder = sys.argv[1] if len(sys.argv) > 1 else "output/payoff"
-    r = int(sys.argv[2]) if len(sys.argv) > 2 else 4
-    fine_e, fine_i, coarse = f"explicit_r{r}", f"implicit_r{r}", f"implicit_r{r - 1}"
+    ppr = int(sys.argv[2]) if len(sys.argv) > 2 else 4
+    fine_e, fine_i, coarse = f"explicit_r{ppr}", f"implicit_r{ppr}", f"implicit_r{ppr - 1}"
     rows = []
     for case in ("dilute", "dense"):
         runs = {k: load(folder, f"{case}_{k}") for k in (fine_e, fine_i, coarse)}
@@ -46,7 +46,7 @@ def main():
                          "ms_per_step": round(1e3 * p["wall_seconds"] / p["steps"], 1),
                          "taylor": q(s, "taylor"), "mu_eff": q(s, "mu_eff"),
                          "from_strain": s["averages"]["from_strain"], "to_strain": s["averages"]["to_strain"]})
-    with open(os.path.join(folder, f"payoff_r{r}.csv"), "w", newline="") as f:
+    with open(os.path.join(folder, f"payoff_r{ppr}.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["case", "run", "grid", "steps", "wall_s", "ms_per_step", "taylor", "taylor_stderr",
                     "mu_eff", "mu_eff_stderr", "from_strain", "to_strain"])
@@ -68,10 +68,10 @@ def main():
                 f"|d mu| = {abs(e['mu_eff'][0] - i['mu_eff'][0]):.4f}")
         if coarse in by:
             c = by[coarse]
-            line += (f"; the {r - 1} -> {r} points-per-radius change (spatial error scale): "
+            line += (f"; the {ppr - 1} -> {ppr} points-per-radius change (spatial error scale): "
                      f"|dT| = {abs(c['taylor'][0] - i['taylor'][0]):.4f}, |d mu| = {abs(c['mu_eff'][0] - i['mu_eff'][0]):.4f}")
         lines.append(line)
-    open(os.path.join(folder, f"payoff_r{r}.md"), "w").write("\n".join(lines) + "\n")
+    open(os.path.join(folder, f"payoff_r{ppr}.md"), "w").write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
