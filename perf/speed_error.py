@@ -240,8 +240,25 @@ def cmd_report(a):
                     f"{r['wall_s']:.1f} | {err} |\n")
         if notes:
             f.write("\n" + "\n".join("- " + n for n in notes) + "\n")
+        payoff(f)
     plot(rows)
     print(f"speed_error: wrote {RESULTS}/speed_error.md, .csv, .png")
+
+
+def payoff(f):
+    """The explicit/implicit comparisons of perf/viscous_payoff.sh, when their tables are here."""
+    path = os.path.join(RESULTS, "viscous_payoff_r5.csv")
+    if not os.path.exists(path):
+        return
+    f.write("\n## Explicit against implicit viscosity (perf/viscous_payoff.sh, 5 points per radius)\n\n"
+            "Steps and the final averages; wall times in viscous_payoff_r5.md (taken under uneven load; "
+            "equal-load ratios there).\n\n| case | run | grid | steps | T | mu/mu_f |\n|---|---|---|---|---|---|\n")
+    with open(path) as c:
+        for r in csv.DictReader(c):
+            def pm(m, e):
+                return f"{float(m):.4f}" + (f" ± {float(e):.4f}" if e not in ("", "None") else "")
+            f.write(f"| {r['case']} | {r['run']} | {r['grid']} | {r['steps']} | {pm(r['taylor'], r['taylor_stderr'])} | "
+                    f"{pm(r['mu_eff'], r['mu_eff_stderr'])} |\n")
 
 
 def plot(rows):
