@@ -26,6 +26,7 @@
 #include "kernel_timer.hpp"
 #include "kernel_traffic.hpp"
 #include "stream.hpp"
+#include "version.hpp"
 
 #ifndef SOFTFLOW_BUILD_TYPE
 #define SOFTFLOW_BUILD_TYPE "unknown"
@@ -209,7 +210,7 @@ json run(const Options& o, MPI_Comm comm) {
 
   json j;
   j["harness_version"] = 1;
-  j["commit"] = SOFTFLOW_VERSION;
+  j["commit"] = version();
   j["build_type"] = SOFTFLOW_BUILD_TYPE;
   j["backend"] = ExecSpace::name();
   j["kokkos_version"] = std::to_string(KOKKOS_VERSION);

@@ -10,6 +10,7 @@
 
 #include "output.hpp"
 #include "run_averages.hpp"
+#include "version.hpp"
 
 namespace softflow {
 
@@ -28,7 +29,7 @@ void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r
   if (!s.decomposition().is_root()) return;
   const Config& c = s.config();
   nlohmann::json j;
-  j["code"] = {{"name", "softflow"}, {"version", SOFTFLOW_VERSION},
+  j["code"] = {{"name", "softflow"}, {"version", version()},
                {"kokkos_execution_space", ExecSpace::name()}};
   j["case"] = {{"name", c.case_name}, {"resolved_input", c.source_text},
                {"grid", {c.grid.nx, c.grid.ny, c.grid.nz}},
@@ -110,7 +111,7 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
 
   if (root) {
     const Grid& g = solver.grid();
-    log << "softflow " << SOFTFLOW_VERSION << ": case '" << cfg.case_name << "', grid " << g.nx
+    log << "softflow " << version() << ": case '" << cfg.case_name << "', grid " << g.nx
         << " x " << g.ny << " x " << g.nz << ", " << solver.decomposition().size << " rank(s) ("
         << cfg.parallel.px << " x " << cfg.parallel.pz << "), " << ExecSpace::name() << " with "
         << ExecSpace().concurrency() << " thread(s) per rank\n"
