@@ -67,13 +67,10 @@ inline IndexBox phi_support(const Grid& g, const Field3& phi) {
 // The box grown by m cells on every side, as a range clipped to `within`
 // (empty when the box is).
 inline Range3 grown_range(const IndexBox& b, int m, const Range3& within) {
-  if (b.lo[0] > b.hi[0]) return {within.ib, within.ib, within.jb, within.jb, within.kb, within.kb};
-  auto lo = [](int a, int c) { return a > c ? a : c; };
-  auto hi = [](int a, int c) { return a < c ? a : c; };
-  Range3 r{lo(b.lo[0] - m, within.ib), hi(b.hi[0] + m + 1, within.ie), lo(b.lo[1] - m, within.jb),
-           hi(b.hi[1] + m + 1, within.je), lo(b.lo[2] - m, within.kb), hi(b.hi[2] + m + 1, within.ke)};
-  if (r.ie <= r.ib || r.je <= r.jb || r.ke <= r.kb) return {within.ib, within.ib, within.jb, within.jb, within.kb, within.kb};
-  return r;
+  const Range3 none{within.ib, within.ib, within.jb, within.jb, within.kb, within.kb};
+  if (b.lo[0] > b.hi[0]) return none;
+  const Range3 r = grown({b.lo[0], b.hi[0] + 1, b.lo[1], b.hi[1] + 1, b.lo[2], b.hi[2] + 1}, m, within);
+  return r.empty() ? none : r;
 }
 
 }  // namespace softflow

@@ -1,6 +1,5 @@
 #include "solid_phase.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -123,20 +122,13 @@ void SolidPhase::fill_ghosts() {
   apply_solid_walls(g_, q_);
 }
 
-namespace {
-// one cell around r, within the storage (r is a part of the interior, so an
-// edge value at the widened range's top still has its +1 neighbours)
-Range3 widened(const Range3& r, const Range3& all) {
-  return {std::max(r.ib - 1, all.ib), std::min(r.ie + 1, all.ie), std::max(r.jb - 1, all.jb),
-          std::min(r.je + 1, all.je), std::max(r.kb - 1, all.kb), std::min(r.ke + 1, all.ke)};
-}
-}  // namespace
-
 const StoredNu& SolidPhase::viscosity(const Range3& where) {
   if (where.size() <= 0) return nu_;
   const NuFromPhi from{stress_.nu_f, stress_.dnu, q_.phi()};
   const StoredNu n = nu_;
-  par_for("solid_viscosity", widened(where, g_.all()), KOKKOS_LAMBDA(int i, int j, int k) {
+  // one cell around `where`, where the viscous stencils read (`where` is a part
+  // of the interior, so an edge value at the top still has its +1 neighbours)
+  par_for("solid_viscosity", grown(where, 1, g_.all()), KOKKOS_LAMBDA(int i, int j, int k) {
     n.c(i, j, k) = from.centre(i, j, k);
     n.exy(i, j, k) = from.xy(i, j, k);
     n.exz(i, j, k) = from.xz(i, j, k);
@@ -151,7 +143,7 @@ void SolidPhase::elastic_force(const MomentumRhs& out, const Range3& where) {
   const TauFromB from{st, SolidViews(q_)};
   const StoredTau t = tau_;
   // the stress where the force's stencils read it: one cell around `where`
-  const Range3 wide = widened(where, g_.all());
+  const Range3 wide = grown(where, 1, g_.all());
   par_for("solid_elastic_stress", wide, KOKKOS_LAMBDA(int i, int j, int k) {
     t.t0(i, j, k) = from(0, i, j, k);
     t.t1(i, j, k) = from(1, i, j, k);

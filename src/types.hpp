@@ -21,7 +21,16 @@ using HostField3 = Field3::host_mirror_type;
 struct Range3 {
   int ib, ie, jb, je, kb, ke;
   long size() const { return long(ie - ib) * (je - jb) * (ke - kb); }
+  bool empty() const { return ie <= ib || je <= jb || ke <= kb; }
 };
+
+// r grown by m cells on every side and clipped to `within`
+inline Range3 grown(const Range3& r, int m, const Range3& within) {
+  auto lo = [](int a, int b) { return a > b ? a : b; };
+  auto hi = [](int a, int b) { return a < b ? a : b; };
+  return {lo(r.ib - m, within.ib), hi(r.ie + m, within.ie), lo(r.jb - m, within.jb),
+          hi(r.je + m, within.je), lo(r.kb - m, within.kb), hi(r.ke + m, within.ke)};
+}
 
 using Policy3 = Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<3, Kokkos::Iterate::Left,
                                                              Kokkos::Iterate::Left>>;
