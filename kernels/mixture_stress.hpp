@@ -12,8 +12,10 @@
 
 namespace softflow {
 
-// phi as a material fraction: transported phi may over- or undershoot [0, 1] slightly
-KOKKOS_INLINE_FUNCTION Real fraction(Real phi) { return Kokkos::fmin(Real(1), Kokkos::fmax(Real(0), phi)); }
+// phi as a material fraction: transported phi may over- or undershoot [0, 1]
+// slightly (comparisons, not fmin/fmax: those are library calls on the host
+// unless NaNs are ruled out, and this clamp runs 13 times per cell for nu(phi))
+KOKKOS_INLINE_FUNCTION Real fraction(Real phi) { return phi < 0 ? Real(0) : (phi > 1 ? Real(1) : phi); }
 
 struct MixtureStress {
   Real idx, idy, idz;
@@ -27,10 +29,12 @@ struct MixtureStress {
                                         int j, int k) const {
     const Real txp = 2 * n.centre(i + 1, j, k) * (u(i + 1, j, k) - u(i, j, k)) * idx;
     const Real txm = 2 * n.centre(i, j, k) * (u(i, j, k) - u(i - 1, j, k)) * idx;
-    const Real typ = n.xy(i, j, k) * ((u(i, j + 1, k) - u(i, j, k)) * idy + (v(i + 1, j, k) - v(i, j, k)) * idx);
+    const Real typ =
+        n.xy(i, j, k) * ((u(i, j + 1, k) - u(i, j, k)) * idy + (v(i + 1, j, k) - v(i, j, k)) * idx);
     const Real tym = n.xy(i, j - 1, k) *
                      ((u(i, j, k) - u(i, j - 1, k)) * idy + (v(i + 1, j - 1, k) - v(i, j - 1, k)) * idx);
-    const Real tzp = n.xz(i, j, k) * ((u(i, j, k + 1) - u(i, j, k)) * idz + (w(i + 1, j, k) - w(i, j, k)) * idx);
+    const Real tzp =
+        n.xz(i, j, k) * ((u(i, j, k + 1) - u(i, j, k)) * idz + (w(i + 1, j, k) - w(i, j, k)) * idx);
     const Real tzm = n.xz(i, j, k - 1) *
                      ((u(i, j, k) - u(i, j, k - 1)) * idz + (w(i + 1, j, k - 1) - w(i, j, k - 1)) * idx);
     return (txp - txm) * idx + (typ - tym) * idy + (tzp - tzm) * idz;
@@ -42,10 +46,12 @@ struct MixtureStress {
                                         int j, int k) const {
     const Real typ = 2 * n.centre(i, j + 1, k) * (v(i, j + 1, k) - v(i, j, k)) * idy;
     const Real tym = 2 * n.centre(i, j, k) * (v(i, j, k) - v(i, j - 1, k)) * idy;
-    const Real txp = n.xy(i, j, k) * ((u(i, j + 1, k) - u(i, j, k)) * idy + (v(i + 1, j, k) - v(i, j, k)) * idx);
+    const Real txp =
+        n.xy(i, j, k) * ((u(i, j + 1, k) - u(i, j, k)) * idy + (v(i + 1, j, k) - v(i, j, k)) * idx);
     const Real txm = n.xy(i - 1, j, k) *
                      ((u(i - 1, j + 1, k) - u(i - 1, j, k)) * idy + (v(i, j, k) - v(i - 1, j, k)) * idx);
-    const Real tzp = n.yz(i, j, k) * ((v(i, j, k + 1) - v(i, j, k)) * idz + (w(i, j + 1, k) - w(i, j, k)) * idy);
+    const Real tzp =
+        n.yz(i, j, k) * ((v(i, j, k + 1) - v(i, j, k)) * idz + (w(i, j + 1, k) - w(i, j, k)) * idy);
     const Real tzm = n.yz(i, j, k - 1) *
                      ((v(i, j, k) - v(i, j, k - 1)) * idz + (w(i, j + 1, k - 1) - w(i, j, k - 1)) * idy);
     return (txp - txm) * idx + (typ - tym) * idy + (tzp - tzm) * idz;
@@ -57,10 +63,12 @@ struct MixtureStress {
                                         int j, int k) const {
     const Real tzp = 2 * n.centre(i, j, k + 1) * (w(i, j, k + 1) - w(i, j, k)) * idz;
     const Real tzm = 2 * n.centre(i, j, k) * (w(i, j, k) - w(i, j, k - 1)) * idz;
-    const Real txp = n.xz(i, j, k) * ((u(i, j, k + 1) - u(i, j, k)) * idz + (w(i + 1, j, k) - w(i, j, k)) * idx);
+    const Real txp =
+        n.xz(i, j, k) * ((u(i, j, k + 1) - u(i, j, k)) * idz + (w(i + 1, j, k) - w(i, j, k)) * idx);
     const Real txm = n.xz(i - 1, j, k) *
                      ((u(i - 1, j, k + 1) - u(i - 1, j, k)) * idz + (w(i, j, k) - w(i - 1, j, k)) * idx);
-    const Real typ = n.yz(i, j, k) * ((v(i, j, k + 1) - v(i, j, k)) * idz + (w(i, j + 1, k) - w(i, j, k)) * idy);
+    const Real typ =
+        n.yz(i, j, k) * ((v(i, j, k + 1) - v(i, j, k)) * idz + (w(i, j + 1, k) - w(i, j, k)) * idy);
     const Real tym = n.yz(i, j - 1, k) *
                      ((v(i, j - 1, k + 1) - v(i, j - 1, k)) * idz + (w(i, j, k) - w(i, j - 1, k)) * idy);
     return (txp - txm) * idx + (typ - tym) * idy + (tzp - tzm) * idz;
@@ -74,8 +82,8 @@ struct MixtureStress {
   // average of tau_m over the 4 cells around an edge: (i,j,k), +d, +e, +d+e;
   // t(m, i, j, k) gives tau_m at a cell centre (TauFromB or StoredTau below)
   template <class Tau>
-  KOKKOS_INLINE_FUNCTION Real tau_edge(const Tau& t, int m, int i, int j, int k, int di, int dj, int dk, int ei,
-                                       int ej, int ek) const {
+  KOKKOS_INLINE_FUNCTION Real tau_edge(const Tau& t, int m, int i, int j, int k, int di, int dj, int dk,
+                                       int ei, int ej, int ek) const {
     return 0.25 * (t(m, i, j, k) + t(m, i + di, j + dj, k + dk) + t(m, i + ei, j + ej, k + ek) +
                    t(m, i + di + ei, j + dj + ej, k + dk + ek));
   }
@@ -105,11 +113,15 @@ struct MixtureStress {
 struct NuFromPhi {
   Real nu_f, dnu;
   Field3 phi;
-  KOKKOS_INLINE_FUNCTION Real centre(int i, int j, int k) const { return nu_f + dnu * fraction(phi(i, j, k)); }
-  KOKKOS_INLINE_FUNCTION Real edge(int i, int j, int k, int di, int dj, int dk, int ei, int ej, int ek) const {
-    return nu_f + dnu * 0.25 *
-                      (fraction(phi(i, j, k)) + fraction(phi(i + di, j + dj, k + dk)) +
-                       fraction(phi(i + ei, j + ej, k + ek)) + fraction(phi(i + di + ei, j + dj + ej, k + dk + ek)));
+  KOKKOS_INLINE_FUNCTION Real centre(int i, int j, int k) const {
+    return nu_f + dnu * fraction(phi(i, j, k));
+  }
+  KOKKOS_INLINE_FUNCTION Real edge(int i, int j, int k, int di, int dj, int dk, int ei, int ej,
+                                   int ek) const {
+    return nu_f +
+           dnu * 0.25 *
+               (fraction(phi(i, j, k)) + fraction(phi(i + di, j + dj, k + dk)) +
+                fraction(phi(i + ei, j + ej, k + ek)) + fraction(phi(i + di + ei, j + dj + ej, k + dk + ek)));
   }
   KOKKOS_INLINE_FUNCTION Real xy(int i, int j, int k) const { return edge(i, j, k, 1, 0, 0, 0, 1, 0); }
   KOKKOS_INLINE_FUNCTION Real xz(int i, int j, int k) const { return edge(i, j, k, 1, 0, 0, 0, 0, 1); }
@@ -140,12 +152,18 @@ struct StoredTau {
   Field3 t0, t1, t2, t3, t4, t5;
   KOKKOS_INLINE_FUNCTION Real operator()(int m, int i, int j, int k) const {
     switch (m) {
-      case 0: return t0(i, j, k);
-      case 1: return t1(i, j, k);
-      case 2: return t2(i, j, k);
-      case 3: return t3(i, j, k);
-      case 4: return t4(i, j, k);
-      default: return t5(i, j, k);
+      case 0:
+        return t0(i, j, k);
+      case 1:
+        return t1(i, j, k);
+      case 2:
+        return t2(i, j, k);
+      case 3:
+        return t3(i, j, k);
+      case 4:
+        return t4(i, j, k);
+      default:
+        return t5(i, j, k);
     }
   }
 };

@@ -58,22 +58,27 @@ struct AdvectionDiffusion {
 };
 
 // Fills rhs with N(u) at time t on the interior unknowns (v without the walls).
-inline void momentum_rhs(const Grid& g, const FlowState& s, Real nu, const Manufactured& mms,
-                         Real t, const MomentumRhs& rhs) {
+inline void momentum_rhs(const Grid& g, const FlowState& s, Real nu, const Manufactured& mms, Real t,
+                         const MomentumRhs& rhs) {
   const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz};
   auto u = s.u, v = s.v, w = s.w;
   auto ru = rhs.u, rv = rhs.v, rw = rhs.w;
   const int vtop = Grid::ng + g.ny - 1;  // the top wall's v is not an unknown
-  par_for("momentum_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    ru(i, j, k) = -op.adv_u(u, v, w, i, j, k) + nu * op.lap(u, i, j, k);
-    rw(i, j, k) = -op.adv_w(u, v, w, i, j, k) + nu * op.lap(w, i, j, k);
-    rv(i, j, k) = j < vtop ? -op.adv_v(u, v, w, i, j, k) + nu * op.lap(v, i, j, k) : Real(0);
-    if (mms.enabled) {
-      ru(i, j, k) += mms.force(0, g.xf(i), g.yc(j), g.zc(k), t);
-      rw(i, j, k) += mms.force(2, g.xc(i), g.yc(j), g.zf(k), t);
-      if (j < vtop) rv(i, j, k) += mms.force(1, g.xc(i), g.yf(j), g.zc(k), t);
-    }
-  });
+  par_for(
+      "momentum_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        ru(i, j, k) = -op.adv_u(u, v, w, i, j, k) + nu * op.lap(u, i, j, k);
+        rw(i, j, k) = -op.adv_w(u, v, w, i, j, k) + nu * op.lap(w, i, j, k);
+        rv(i, j, k) = j < vtop ? -op.adv_v(u, v, w, i, j, k) + nu * op.lap(v, i, j, k) : Real(0);
+      });
+  // a separate loop, so the transcendental calls do not keep the one above
+  // from vectorising in production runs
+  if (mms.enabled)
+    par_for(
+        "momentum_mms_forcing", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          ru(i, j, k) += mms.force(0, g.xf(i), g.yc(j), g.zc(k), t);
+          rw(i, j, k) += mms.force(2, g.xc(i), g.yc(j), g.zf(k), t);
+          if (j < vtop) rv(i, j, k) += mms.force(1, g.xc(i), g.yf(j), g.zc(k), t);
+        });
 }
 
 }  // namespace softflow
@@ -95,11 +100,12 @@ inline void momentum_viscous_excess(const Grid& g, const FlowState& s, const Mix
   auto ru = rhs.u, rv = rhs.v, rw = rhs.w;
   const int vtop = Grid::ng + g.ny - 1;
   const Real nu_f = st.nu_f;
-  par_for("momentum_viscous_excess", region, KOKKOS_LAMBDA(int i, int j, int k) {
-    ru(i, j, k) += st.viscous_u(u, v, w, n, i, j, k) - nu_f * op.lap(u, i, j, k);
-    rw(i, j, k) += st.viscous_w(u, v, w, n, i, j, k) - nu_f * op.lap(w, i, j, k);
-    if (j < vtop) rv(i, j, k) += st.viscous_v(u, v, w, n, i, j, k) - nu_f * op.lap(v, i, j, k);
-  });
+  par_for(
+      "momentum_viscous_excess", region, KOKKOS_LAMBDA(int i, int j, int k) {
+        ru(i, j, k) += st.viscous_u(u, v, w, n, i, j, k) - nu_f * op.lap(u, i, j, k);
+        rw(i, j, k) += st.viscous_w(u, v, w, n, i, j, k) - nu_f * op.lap(w, i, j, k);
+        if (j < vtop) rv(i, j, k) += st.viscous_v(u, v, w, n, i, j, k) - nu_f * op.lap(v, i, j, k);
+      });
 }
 
 }  // namespace softflow

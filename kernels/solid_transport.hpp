@@ -8,12 +8,10 @@
 // few percent; phi_bounded_redistribution() below clips them and gives the
 // clipped volume back to the interface cells, so phi stays in [0, 1] and the
 // solid volume stays conserved to round-off. Cells whose whole
-// stencil is fluid (phi below the cut-off) get a zero right-hand side: there
-// is nothing to transport and B is reset to I there anyway. phi's own flux is
-// computed wherever phi is not exactly zero on the stencil: a face next to
-// such a cell can carry a tiny flux, and skipping it would break the exact
-// conservation of solid volume. Cells with phi == 0 on the whole stencil
-// (most of a dilute case) skip everything.
+// stencil is fluid (phi below the cut-off) get a zero right-hand side for B:
+// B is reset to I there anyway. phi's own flux is computed on every face of
+// the region: a face next to a fluid cell can carry a tiny flux, and
+// skipping it would break the exact conservation of solid volume.
 #pragma once
 #include <functional>
 
@@ -26,65 +24,104 @@ namespace softflow {
 
 constexpr Real phi_fluid_cut = 1e-6;  // below this a cell is fluid: B = I there
 
-KOKKOS_INLINE_FUNCTION Real weno_x(const Field3& q, Real vel, int i, int j, int k) {  // face i+1/2
+KOKKOS_INLINE_FUNCTION Real weno_x(const Field3& q, Real vel, int i, int j,
+                                   int k) {  // face i+1/2
   return weno5_face(vel, q(i - 2, j, k), q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k),
                     q(i + 3, j, k));
 }
-KOKKOS_INLINE_FUNCTION Real weno_y(const Field3& q, Real vel, int i, int j, int k) {  // face j+1/2
+KOKKOS_INLINE_FUNCTION Real weno_y(const Field3& q, Real vel, int i, int j,
+                                   int k) {  // face j+1/2
   return weno5_face(vel, q(i, j - 2, k), q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k),
                     q(i, j + 3, k));
 }
-KOKKOS_INLINE_FUNCTION Real weno_z(const Field3& q, Real vel, int i, int j, int k) {  // face k+1/2
+KOKKOS_INLINE_FUNCTION Real weno_z(const Field3& q, Real vel, int i, int j,
+                                   int k) {  // face k+1/2
   return weno5_face(vel, q(i, j, k - 2), q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2),
                     q(i, j, k + 3));
 }
 
-// -div(u q) at cell (i, j, k) with WENO5 face values
-KOKKOS_INLINE_FUNCTION Real advect_weno5(const Field3& q, const Field3& u, const Field3& v,
-                                         const Field3& w, int i, int j, int k, Real idx, Real idy,
-                                         Real idz) {
-  const Real fxp = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
-  const Real fxm = u(i - 1, j, k) * weno_x(q, u(i - 1, j, k), i - 1, j, k);
-  const Real fyp = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
-  const Real fym = v(i, j - 1, k) * weno_y(q, v(i, j - 1, k), i, j - 1, k);
-  const Real fzp = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
-  const Real fzm = w(i, j, k - 1) * weno_z(q, w(i, j, k - 1), i, j, k - 1);
-  return -((fxp - fxm) * idx + (fyp - fym) * idy + (fzp - fzm) * idz);
-}
+KOKKOS_INLINE_FUNCTION Real larger(Real a, Real b) { return a > b ? a : b; }
 
-// the largest phi on the cell's WENO stencil (the cell and 3 neighbours each way)
+// the largest phi on the cell's WENO stencil (the cell and 3 neighbours each
+// way); a plain comparison, not fmax (a library call unless NaNs are ruled
+// out, and phi is never NaN)
 KOKKOS_INLINE_FUNCTION Real stencil_max(const Field3& phi, int i, int j, int k) {
   Real m = phi(i, j, k);
   for (int d = 1; d <= 3; ++d) {
-    m = Kokkos::fmax(m, Kokkos::fmax(phi(i - d, j, k), phi(i + d, j, k)));
-    m = Kokkos::fmax(m, Kokkos::fmax(phi(i, j - d, k), phi(i, j + d, k)));
-    m = Kokkos::fmax(m, Kokkos::fmax(phi(i, j, k - d), phi(i, j, k + d)));
+    m = larger(m, larger(phi(i - d, j, k), phi(i + d, j, k)));
+    m = larger(m, larger(phi(i, j - d, k), phi(i, j + d, k)));
+    m = larger(m, larger(phi(i, j, k - d), phi(i, j, k + d)));
   }
   return m;
 }
 
+// Face fluxes u q of one field: x(i, j, k) at face i+1/2, y at j+1/2, z at
+// k+1/2. Scratch of the transport, allocated once.
+struct FaceFluxes {
+  Field3 x, y, z;
+  FaceFluxes() = default;
+  explicit FaceFluxes(const Grid& g)
+      : x("flux_x", g.sx(), g.sy(), g.sz()),
+        y("flux_y", g.sx(), g.sy(), g.sz()),
+        z("flux_z", g.sx(), g.sy(), g.sz()) {}
+};
+
+// The advection part of the right-hand sides, -div(u q) of the seven fields,
+// then B's upper-convected source. Each face flux is reconstructed once and
+// stored (a cell-wise loop would reconstruct every face twice, and WENO5 is
+// the step's most expensive arithmetic); one field at a time, so the scratch
+// is three arrays. No per-cell tests around the reconstruction (branches at
+// the interface cost more than they save, measured): a face flux of a field
+// that is zero on its six-cell stencil is exactly zero, so phi' = 0 exactly
+// away from the solid and the solid volume is conserved to round-off.
+// `active` (inside `region`) holds the cells within 3 of phi's support at this
+// stage; the rest of `region` gets zero right-hand sides.
 inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const SolidFields& f,
-                                const SolidFields& rhs, const Range3& region) {
+                                const SolidFields& rhs, const FaceFluxes& flux, const Range3& region,
+                                const Range3& active) {
+  {
+    const SolidViews r(rhs);
+    const Range3 a = active;
+    par_for(
+        "solid_transport_clear", region, KOKKOS_LAMBDA(int i, int j, int k) {
+          if (i >= a.ib && i < a.ie && j >= a.jb && j < a.je && k >= a.kb && k < a.ke) return;
+          for (int m = 0; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
+        });
+  }
+  if (active.empty()) return;
   const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
   auto u = flow.u, v = flow.v, w = flow.w;
+  auto fx = flux.x, fy = flux.y, fz = flux.z;
+  // the faces of the active cells: one more on the low side of each direction
+  const Range3 faces{active.ib - 1, active.ie, active.jb - 1, active.je, active.kb - 1, active.ke};
+  for (int m = 0; m < n_solid_fields; ++m) {
+    const Field3 q = f.q[m], r = rhs.q[m];
+    par_for(
+        "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+          fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
+          fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
+          fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
+        });
+    par_for(
+        "solid_transport_divergence", active, KOKKOS_LAMBDA(int i, int j, int k) {
+          r(i, j, k) = -((fx(i, j, k) - fx(i - 1, j, k)) * idx + (fy(i, j, k) - fy(i, j - 1, k)) * idy +
+                         (fz(i, j, k) - fz(i, j, k - 1)) * idz);
+        });
+  }
   const SolidViews q(f), r(rhs);
-  par_for("solid_transport_rhs", region, KOKKOS_LAMBDA(int i, int j, int k) {
-    const Real smax = stencil_max(q.phi, i, j, k);
-    // phi == 0 on the whole stencil: every face flux of this cell is exactly
-    // zero (WENO5 of zeros is zero), so skipping keeps exact conservation
-    r.phi(i, j, k) = smax > 0 ? advect_weno5(q.phi, u, v, w, i, j, k, idx, idy, idz) : Real(0);
-    if (smax < phi_fluid_cut) {
-      for (int m = 1; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
-      return;
-    }
-    const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
-    Real B[6];
-    for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
-    const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
-    for (int m = 0; m < 6; ++m)
-      r.field(1 + m)(i, j, k) = advect_weno5(q.field(1 + m), u, v, w, i, j, k, idx, idy, idz) +
-                                upper_convected_source(L, B, a_of[m], b_of[m]);
-  });
+  par_for(
+      "solid_transport_source", active, KOKKOS_LAMBDA(int i, int j, int k) {
+        // fluid on the whole stencil: B is I there and has no right-hand side
+        if (stencil_max(q.phi, i, j, k) < phi_fluid_cut) {
+          for (int m = 1; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
+          return;
+        }
+        const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
+        Real B[6];
+        for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
+        const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
+        for (int m = 0; m < 6; ++m) r.field(1 + m)(i, j, k) += upper_convected_source(L, B, a_of[m], b_of[m]);
+      });
 }
 
 // q += gdt * now + zdt * before for the seven fields; then B is reset to I
@@ -94,13 +131,14 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
 inline void solid_rk3_update(const SolidFields& f, const SolidFields& now, const SolidFields& before,
                              Real gdt, Real zdt, const Range3& region) {
   const SolidViews q(f), a(now), b(before);
-  par_for("solid_rk3_update", region, KOKKOS_LAMBDA(int i, int j, int k) {
-    for (int m = 0; m < n_solid_fields; ++m)
-      q.field(m)(i, j, k) += gdt * a.field(m)(i, j, k) + zdt * b.field(m)(i, j, k);
-    if (q.phi(i, j, k) < phi_fluid_cut) {
-      for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = (m == 0 || m == 3 || m == 5) ? 1 : 0;
-    }
-  });
+  par_for(
+      "solid_rk3_update", region, KOKKOS_LAMBDA(int i, int j, int k) {
+        for (int m = 0; m < n_solid_fields; ++m)
+          q.field(m)(i, j, k) += gdt * a.field(m)(i, j, k) + zdt * b.field(m)(i, j, k);
+        if (q.phi(i, j, k) < phi_fluid_cut) {
+          for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+        }
+      });
 }
 
 // phi as kept: clamped to [0, 1], and 0 below phi_zero_cut. WENO5 leaves
@@ -108,9 +146,7 @@ inline void solid_rk3_update(const SolidFields& f, const SolidFields& now, const
 // into the fluid and spread the solid region (kernels/solid_region.hpp) over
 // the box; their volume goes back to the interface like the clipped excess.
 constexpr Real phi_zero_cut = 1e-10;
-KOKKOS_INLINE_FUNCTION Real kept_phi(Real p) {
-  return p < phi_zero_cut ? Real(0) : Kokkos::fmin(Real(1), p);
-}
+KOKKOS_INLINE_FUNCTION Real kept_phi(Real p) { return p < phi_zero_cut ? Real(0) : Kokkos::fmin(Real(1), p); }
 
 // Keeps phi in [0, 1] without losing solid volume. With c = kept_phi(phi),
 // e = sum(phi - c) (the clipped volume, over all ranks) and W = sum c (1 - c),
@@ -144,10 +180,11 @@ inline void phi_bounded_redistribution(const SolidFields& f,
       Kokkos::Sum<Real>(sums[1]));
   allreduce_sum(sums, 2);
   const Real a = sums[1] > 0 ? Kokkos::fmax(Real(-1), Kokkos::fmin(Real(1), sums[0] / sums[1])) : Real(0);
-  par_for("solid_phi_redistribute", region, KOKKOS_LAMBDA(int i, int j, int k) {
-    const Real c = kept_phi(phi(i, j, k));
-    phi(i, j, k) = c + a * c * (1 - c);
-  });
+  par_for(
+      "solid_phi_redistribute", region, KOKKOS_LAMBDA(int i, int j, int k) {
+        const Real c = kept_phi(phi(i, j, k));
+        phi(i, j, k) = c + a * c * (1 - c);
+      });
 }
 
 // Wall ghosts of the solid fields: even reflection (no flux through the wall,
@@ -155,13 +192,14 @@ inline void phi_bounded_redistribution(const SolidFields& f,
 inline void apply_solid_walls(const Grid& g, const SolidFields& f) {
   const int ng = Grid::ng, ny = g.ny;
   const SolidViews q(f);
-  par_for("walls_solid", Range3{0, g.sx(), 0, ng, 0, g.sz()}, KOKKOS_LAMBDA(int i, int m, int k) {
-    for (int c = 0; c < n_solid_fields; ++c) {
-      const Field3& a = q.field(c);
-      a(i, ng - 1 - m, k) = a(i, ng + m, k);
-      a(i, ng + ny + m, k) = a(i, ng + ny - 1 - m, k);
-    }
-  });
+  par_for(
+      "walls_solid", Range3{0, g.sx(), 0, ng, 0, g.sz()}, KOKKOS_LAMBDA(int i, int m, int k) {
+        for (int c = 0; c < n_solid_fields; ++c) {
+          const Field3& a = q.field(c);
+          a(i, ng - 1 - m, k) = a(i, ng + m, k);
+          a(i, ng + ny + m, k) = a(i, ng + ny - 1 - m, k);
+        }
+      });
 }
 
 }  // namespace softflow

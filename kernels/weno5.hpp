@@ -11,8 +11,8 @@ KOKKOS_INLINE_FUNCTION Real weno5(Real qm2, Real qm1, Real q0, Real qp1, Real qp
   constexpr Real eps = 1e-6;  // Jiang & Shu's epsilon (data of order one)
   const Real b0 = Real(13) / 12 * (qm2 - 2 * qm1 + q0) * (qm2 - 2 * qm1 + q0) +
                   Real(0.25) * (qm2 - 4 * qm1 + 3 * q0) * (qm2 - 4 * qm1 + 3 * q0);
-  const Real b1 = Real(13) / 12 * (qm1 - 2 * q0 + qp1) * (qm1 - 2 * q0 + qp1) +
-                  Real(0.25) * (qm1 - qp1) * (qm1 - qp1);
+  const Real b1 =
+      Real(13) / 12 * (qm1 - 2 * q0 + qp1) * (qm1 - 2 * q0 + qp1) + Real(0.25) * (qm1 - qp1) * (qm1 - qp1);
   const Real b2 = Real(13) / 12 * (q0 - 2 * qp1 + qp2) * (q0 - 2 * qp1 + qp2) +
                   Real(0.25) * (3 * q0 - 4 * qp1 + qp2) * (3 * q0 - 4 * qp1 + qp2);
   const Real a0 = Real(0.1) / ((eps + b0) * (eps + b0));
@@ -26,9 +26,11 @@ KOKKOS_INLINE_FUNCTION Real weno5(Real qm2, Real qm1, Real q0, Real qp1, Real qp
 
 // Upwind WENO5 value at face c+1/2 given the six cells c-2..c+3 and the face
 // velocity: from the left for vel >= 0, mirrored from the right otherwise.
-KOKKOS_INLINE_FUNCTION Real weno5_face(Real vel, Real qm2, Real qm1, Real q0, Real qp1, Real qp2,
-                                       Real qp3) {
-  return vel >= 0 ? weno5(qm2, qm1, q0, qp1, qp2) : weno5(qp3, qp2, qp1, q0, qm1);
+// The stencil is chosen first and reconstructed once: no branch around the
+// arithmetic, so x lines vectorise on CPUs and GPU warps do not diverge.
+KOKKOS_INLINE_FUNCTION Real weno5_face(Real vel, Real qm2, Real qm1, Real q0, Real qp1, Real qp2, Real qp3) {
+  const bool left = vel >= 0;
+  return weno5(left ? qm2 : qp3, left ? qm1 : qp2, left ? q0 : qp1, left ? qp1 : q0, left ? qp2 : qm1);
 }
 
 }  // namespace softflow

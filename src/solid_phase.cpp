@@ -15,9 +15,10 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
       q_(g, "solid"),
       rhs_now_(g, "solid_rhs_now"),
       rhs_before_(g, "solid_rhs_before"),
+      flux_(g),
       force_now_(g, "elastic_now"),
       force_before_(g, "elastic_before") {
-  auto f = [&](const char* name) { return Field3(name, g.sx(), g.sy(), g.sz()); };
+  auto f = [&](const char* name) { return Field3(std::string(name), g.sx(), g.sy(), g.sz()); };
   tau_ = {f("tau_xx"), f("tau_xy"), f("tau_xz"), f("tau_yy"), f("tau_yz"), f("tau_zz")};
   nu_ = {f("nu_centre"), f("nu_xy"), f("nu_xz"), f("nu_yz")};
   stress_.idx = 1 / g.dx;
@@ -60,10 +61,12 @@ void SolidPhase::seed() {
   const ParticleConfig& p = cfg_.particles;
   if (p.shape == "layer") {
     const Real half = p.layer_thickness / 2;
-    par_for("seed_layer", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-      const Real lo = Kokkos::fmax(g.yc(j) - g.dy / 2, -half), hi = Kokkos::fmin(g.yc(j) + g.dy / 2, half);
-      q.phi(i, j, k) = Kokkos::fmax(Real(0), hi - lo) / g.dy;
-    });
+    par_for(
+        "seed_layer", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          const Real lo = Kokkos::fmax(g.yc(j) - g.dy / 2, -half),
+                     hi = Kokkos::fmin(g.yc(j) + g.dy / 2, half);
+          q.phi(i, j, k) = Kokkos::fmax(Real(0), hi - lo) / g.dy;
+        });
   } else {
     spheres_ = seed_spheres(cfg_);
     const int n = int(spheres_.size());
@@ -77,43 +80,46 @@ void SolidPhase::seed() {
     Kokkos::deep_copy(c, ch);
     const Real r = p.radius, lx = g.lx, lz = g.lz;
     const int ns = p.subsamples;
-    // half-diagonal of a cell: beyond r + hd a cell is outside, within r - hd inside
+    // half-diagonal of a cell: beyond r + hd a cell is outside, within r - hd
+    // inside
     const Real hd = 0.5 * std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz);
-    par_for("seed_spheres", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-      const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
-      Real f = 0;
-      for (int m = 0; m < n; ++m) {
-        Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
-        dx -= lx * Kokkos::round(dx / lx);
-        dz -= lz * Kokkos::round(dz / lz);
-        const Real d = Kokkos::sqrt(dx * dx + dy * dy + dz * dz);
-        if (d >= r + hd) continue;
-        if (d <= r - hd) {
-          f += 1;
-          continue;
-        }
-        int in = 0;
-        for (int a = 0; a < ns; ++a)
-          for (int b = 0; b < ns; ++b)
-            for (int e = 0; e < ns; ++e) {
-              const Real sx = dx + g.dx * ((a + Real(0.5)) / ns - Real(0.5));
-              const Real sy = dy + g.dy * ((b + Real(0.5)) / ns - Real(0.5));
-              const Real sz = dz + g.dz * ((e + Real(0.5)) / ns - Real(0.5));
-              in += sx * sx + sy * sy + sz * sz < r * r;
+    par_for(
+        "seed_spheres", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
+          Real f = 0;
+          for (int m = 0; m < n; ++m) {
+            Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
+            dx -= lx * Kokkos::round(dx / lx);
+            dz -= lz * Kokkos::round(dz / lz);
+            const Real d = Kokkos::sqrt(dx * dx + dy * dy + dz * dz);
+            if (d >= r + hd) continue;
+            if (d <= r - hd) {
+              f += 1;
+              continue;
             }
-        f += Real(in) / (ns * ns * ns);
-      }
-      q.phi(i, j, k) = Kokkos::fmin(Real(1), f);
-    });
+            int in = 0;
+            for (int a = 0; a < ns; ++a)
+              for (int b = 0; b < ns; ++b)
+                for (int e = 0; e < ns; ++e) {
+                  const Real sx = dx + g.dx * ((a + Real(0.5)) / ns - Real(0.5));
+                  const Real sy = dy + g.dy * ((b + Real(0.5)) / ns - Real(0.5));
+                  const Real sz = dz + g.dz * ((e + Real(0.5)) / ns - Real(0.5));
+                  in += sx * sx + sy * sy + sz * sz < r * r;
+                }
+            f += Real(in) / (ns * ns * ns);
+          }
+          q.phi(i, j, k) = Kokkos::fmin(Real(1), f);
+        });
   }
-  par_for("seed_identity", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    q.b0(i, j, k) = 1;
-    q.b1(i, j, k) = 0;
-    q.b2(i, j, k) = 0;
-    q.b3(i, j, k) = 1;
-    q.b4(i, j, k) = 0;
-    q.b5(i, j, k) = 1;
-  });
+  par_for(
+      "seed_identity", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        q.b0(i, j, k) = 1;
+        q.b1(i, j, k) = 0;
+        q.b2(i, j, k) = 0;
+        q.b3(i, j, k) = 1;
+        q.b4(i, j, k) = 0;
+        q.b5(i, j, k) = 1;
+      });
   fill_ghosts();
 }
 
@@ -128,12 +134,13 @@ const StoredNu& SolidPhase::viscosity(const Range3& where) {
   const StoredNu n = nu_;
   // one cell around `where`, where the viscous stencils read (`where` is a part
   // of the interior, so an edge value at the top still has its +1 neighbours)
-  par_for("solid_viscosity", grown(where, 1, g_.all()), KOKKOS_LAMBDA(int i, int j, int k) {
-    n.c(i, j, k) = from.centre(i, j, k);
-    n.exy(i, j, k) = from.xy(i, j, k);
-    n.exz(i, j, k) = from.xz(i, j, k);
-    n.eyz(i, j, k) = from.yz(i, j, k);
-  });
+  par_for(
+      "solid_viscosity", grown(where, 1, g_.all()), KOKKOS_LAMBDA(int i, int j, int k) {
+        n.c(i, j, k) = from.centre(i, j, k);
+        n.exy(i, j, k) = from.xy(i, j, k);
+        n.exz(i, j, k) = from.xz(i, j, k);
+        n.eyz(i, j, k) = from.yz(i, j, k);
+      });
   return nu_;
 }
 
@@ -144,21 +151,23 @@ void SolidPhase::elastic_force(const MomentumRhs& out, const Range3& where) {
   const StoredTau t = tau_;
   // the stress where the force's stencils read it: one cell around `where`
   const Range3 wide = grown(where, 1, g_.all());
-  par_for("solid_elastic_stress", wide, KOKKOS_LAMBDA(int i, int j, int k) {
-    t.t0(i, j, k) = from(0, i, j, k);
-    t.t1(i, j, k) = from(1, i, j, k);
-    t.t2(i, j, k) = from(2, i, j, k);
-    t.t3(i, j, k) = from(3, i, j, k);
-    t.t4(i, j, k) = from(4, i, j, k);
-    t.t5(i, j, k) = from(5, i, j, k);
-  });
+  par_for(
+      "solid_elastic_stress", wide, KOKKOS_LAMBDA(int i, int j, int k) {
+        t.t0(i, j, k) = from(0, i, j, k);
+        t.t1(i, j, k) = from(1, i, j, k);
+        t.t2(i, j, k) = from(2, i, j, k);
+        t.t3(i, j, k) = from(3, i, j, k);
+        t.t4(i, j, k) = from(4, i, j, k);
+        t.t5(i, j, k) = from(5, i, j, k);
+      });
   auto fu = out.u, fv = out.v, fw = out.w;
   const int vtop = Grid::ng + g_.ny - 1;
-  par_for("solid_elastic_force", where, KOKKOS_LAMBDA(int i, int j, int k) {
-    fu(i, j, k) = st.elastic_u(t, i, j, k);
-    fw(i, j, k) = st.elastic_w(t, i, j, k);
-    fv(i, j, k) = j < vtop ? st.elastic_v(t, i, j, k) : Real(0);
-  });
+  par_for(
+      "solid_elastic_force", where, KOKKOS_LAMBDA(int i, int j, int k) {
+        fu(i, j, k) = st.elastic_u(t, i, j, k);
+        fw(i, j, k) = st.elastic_w(t, i, j, k);
+        fv(i, j, k) = j < vtop ? st.elastic_v(t, i, j, k) : Real(0);
+      });
 }
 
 void SolidPhase::init_force() {
@@ -189,16 +198,21 @@ void SolidPhase::begin_step() {
 // f = 0 on the cells of old_region outside new_region
 void SolidPhase::zero_outside(const MomentumRhs& f, const Range3& old_region, const Range3& n) {
   auto fu = f.u, fv = f.v, fw = f.w;
-  par_for("solid_force_clear", old_region, KOKKOS_LAMBDA(int i, int j, int k) {
-    if (i >= n.ib && i < n.ie && j >= n.jb && j < n.je && k >= n.kb && k < n.ke) return;
-    fu(i, j, k) = 0;
-    fv(i, j, k) = 0;
-    fw(i, j, k) = 0;
-  });
+  par_for(
+      "solid_force_clear", old_region, KOKKOS_LAMBDA(int i, int j, int k) {
+        if (i >= n.ib && i < n.ie && j >= n.jb && j < n.je && k >= n.kb && k < n.ke) return;
+        fu(i, j, k) = 0;
+        fv(i, j, k) = 0;
+        fw(i, j, k) = 0;
+      });
 }
 
 void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
-  solid_transport_rhs(g_, flow, q_, rhs_now_, region_);
+  // the right-hand sides vanish beyond phi's current support + 3 cells (the
+  // WENO stencil); a dilute case's support is much smaller than the region,
+  // which has to hold a whole step's growth
+  const Range3 active = track_region_ ? grown_range(phi_support(g_, q_.phi()), 3, region_) : region_;
+  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active);
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_);
   phi_bounded_redistribution(
       q_, [this](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm()); },

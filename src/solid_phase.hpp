@@ -7,6 +7,7 @@
 #include "../kernels/flow_state.hpp"
 #include "../kernels/mixture_stress.hpp"
 #include "../kernels/solid_state.hpp"
+#include "../kernels/solid_transport.hpp"
 #include "config.hpp"
 #include "halo.hpp"
 #include "particle_seeding.hpp"
@@ -27,7 +28,8 @@ class SolidPhase {
   void begin_step();
   const Range3& region() const { return region_; }
   const Range3& force_region() const { return force_region_; }
-  // off: the whole interior every step (the reference the region is tested against)
+  // off: the whole interior every step (the reference the region is tested
+  // against)
   void set_region_tracking(bool on) { track_region_ = on; }
 
   // stage s, before the momentum update: advance phi and B from the velocity
@@ -36,7 +38,8 @@ class SolidPhase {
   // the elastic force of the current phi, B into force_before() (start of a
   // run, restart or a changed phi/B); also sets the region
   void init_force();
-  // the stage's elastic force: (E_now + E_before) / 2, to be multiplied by alpha dt
+  // the stage's elastic force: (E_now + E_before) / 2, to be multiplied by
+  // alpha dt
   const MomentumRhs& force_now() const { return force_now_; }
   const MomentumRhs& force_before() const { return force_before_; }
   void end_stage() { std::swap(force_now_, force_before_); }
@@ -63,6 +66,7 @@ class SolidPhase {
   Grid g_;
   Halo& halo_;
   SolidFields q_, rhs_now_, rhs_before_;
+  FaceFluxes flux_;  // the transport's face-flux scratch
   MomentumRhs force_now_, force_before_;
   MixtureStress stress_;
   StoredTau tau_;  // the elastic stress at cell centres, the force kernel's input

@@ -37,7 +37,7 @@ got = b["communication"]["transpose_bytes_per_step_all_ranks"]
 check(abs(got - tr) < 1e-6 * tr, f"2-rank transposes send {got:.0f} B/step, model {tr:.0f}")
 halo = b["communication"]["halo_bytes_per_step_all_ranks"]
 check(halo > 0 and abs(halo / field - round(halo / field)) < 1e-9, f"halo: {halo / field:.2f} whole field exchanges")
-check("solid_transport_rhs" in b["kernels"] and 0 < b["solid_region_share_of_box"] <= 1, "solid kernels and region")
+check("solid_transport_flux" in b["kernels"] and 0 < b["solid_region_share_of_box"] <= 1, "solid kernels and region")
 # the gate
 def gate(base, new):
     json.dump(base, open(f"{work}/base.json", "w"))

@@ -10,7 +10,8 @@ using namespace softflow;
 using namespace softflow::test;
 
 TEST(Weno5, ReconstructsFaceValuesAtFifthOrder) {
-  // cell averages of sin(2 pi x) on [0, 1] -> value at the right face of each cell
+  // cell averages of sin(2 pi x) on [0, 1] -> value at the right face of each
+  // cell
   std::vector<double> hs, errs;
   for (int n : {16, 32, 64, 128}) {
     const double dx = 1.0 / n;
@@ -24,7 +25,8 @@ TEST(Weno5, ReconstructsFaceValuesAtFifthOrder) {
       e = std::max(e, std::abs(weno5(avg(c - 2), avg(c - 1), avg(c), avg(c + 1), avg(c + 2)) - face));
       // from the right: flow in -x
       e_left = std::max(e_left, std::abs(weno5_face(-1, avg(c - 2), avg(c - 1), avg(c), avg(c + 1),
-                                                    avg(c + 2), avg(c + 3)) - face));
+                                                    avg(c + 2), avg(c + 3)) -
+                                         face));
     }
     hs.push_back(dx);
     errs.push_back(std::max(e, e_left));
@@ -55,10 +57,14 @@ struct Uniform {
 struct Smooth {
   double a, b, c;
   KOKKOS_INLINE_FUNCTION double value(int m, double x, double y, double z) const {
-    return (m == 0 ? 0.5 : (m == 1 || m == 4 || m == 6) ? 1.0 : 0.0) +
-           0.2 / (1 + m) * Kokkos::sin(a * x + 0.3 * m) * Kokkos::sin(b * y + 0.7) * Kokkos::sin(c * z + 1.1 + m);
+    return (m == 0                         ? 0.5
+            : (m == 1 || m == 4 || m == 6) ? 1.0
+                                           : 0.0) +
+           0.2 / (1 + m) * Kokkos::sin(a * x + 0.3 * m) * Kokkos::sin(b * y + 0.7) *
+               Kokkos::sin(c * z + 1.1 + m);
   }
-  KOKKOS_INLINE_FUNCTION double grad_dot(int m, double x, double y, double z, double U, double V, double W) const {
+  KOKKOS_INLINE_FUNCTION double grad_dot(int m, double x, double y, double z, double U, double V,
+                                         double W) const {
     const double A = 0.2 / (1 + m);
     const double sx = Kokkos::sin(a * x + 0.3 * m), cx = Kokkos::cos(a * x + 0.3 * m);
     const double sy = Kokkos::sin(b * y + 0.7), cy = Kokkos::cos(b * y + 0.7);
@@ -72,25 +78,29 @@ namespace {
 // Device loops of the tests below live outside the TEST bodies: nvcc forbids
 // extended (KOKKOS_LAMBDA) lambdas in gtest's private TestBody.
 void fill_smooth(const Grid& g, const SolidViews& qv, const Smooth& f) {
-  par_for("test_fill_smooth", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
-    for (int m = 0; m < n_solid_fields; ++m) qv.field(m)(i, j, k) = f.value(m, g.xc(i), g.yc(j), g.zc(k));
-  });
+  par_for(
+      "test_fill_smooth", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+        for (int m = 0; m < n_solid_fields; ++m) qv.field(m)(i, j, k) = f.value(m, g.xc(i), g.yc(j), g.zc(k));
+      });
 }
 double transport_error(const Grid& g, const Field3& r, const Smooth& f, int m, const Uniform& vel) {
-  return max_error(g, r, KOKKOS_LAMBDA(int i, int j, int k) {
-    return -f.grad_dot(m, g.xc(i), g.yc(j), g.zc(k), vel.U, vel.V, vel.W);
-  });
+  return max_error(
+      g, r, KOKKOS_LAMBDA(int i, int j, int k) {
+        return -f.grad_dot(m, g.xc(i), g.yc(j), g.zc(k), vel.U, vel.V, vel.W);
+      });
 }
 // f_0 carried by the uniform velocity for a time t
 void fill_advected(const Grid& g, const Field3& phi, const Smooth& f, const Uniform& vel, double t) {
-  par_for("test_fill_phi", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
-    phi(i, j, k) = f.value(0, g.xc(i) - vel.U * t, g.yc(j), g.zc(k) - vel.W * t);
-  });
+  par_for(
+      "test_fill_phi", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+        phi(i, j, k) = f.value(0, g.xc(i) - vel.U * t, g.yc(j), g.zc(k) - vel.W * t);
+      });
 }
 double advected_error(const Grid& g, const Field3& phi, const Smooth& f, const Uniform& vel, double t) {
-  return max_error(g, phi, KOKKOS_LAMBDA(int i, int j, int k) {
-    return f.value(0, g.xc(i) - vel.U * t, g.yc(j), g.zc(k) - vel.W * t);
-  });
+  return max_error(
+      g, phi, KOKKOS_LAMBDA(int i, int j, int k) {
+        return f.value(0, g.xc(i) - vel.U * t, g.yc(j), g.zc(k) - vel.W * t);
+      });
 }
 }  // namespace
 
@@ -106,7 +116,7 @@ TEST(Weno5, TransportOperatorIsFifthOrderInAllDirections) {
     SolidFields q(g, "q"), r(g, "r");
     const SolidViews qv(q);
     fill_smooth(g, qv, f);
-    solid_transport_rhs(g, s.state(), q, r, g.interior());
+    solid_transport_rhs(g, s.state(), q, r, FaceFluxes(g), g.interior(), g.interior());
     double e = 0;
     for (int m = 0; m < n_solid_fields; ++m) {
       e = std::max(e, transport_error(g, r.q[m], f, m, vel));
