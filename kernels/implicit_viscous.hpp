@@ -28,27 +28,26 @@ namespace softflow {
 // The weights of one implicit stage and the walls' velocities at its end.
 struct ImplicitStage {
   Real gdt = 0, zdt = 0, cdt = 0, adt = 0;
-  Real beta = 0;          // alpha dt nu0 / 2
-  Real nu0 = 0;           // the implicit (constant) kinematic viscosity
-  Real wall_bottom = 0;   // u at y = -h at the stage's end
-  Real wall_top = 0;      // u at y = +h at the stage's end
+  Real beta = 0;         // alpha dt nu0 / 2
+  Real nu0 = 0;          // the implicit (constant) kinematic viscosity
+  Real wall_bottom = 0;  // u at y = -h at the stage's end
+  Real wall_top = 0;     // u at y = +h at the stage's end
 };
 
 // What the stage's right-hand side is made of; force_* and phi are empty
 // without particles.
 struct StageTerms {
-  MomentumRhs now, before;               // N at this and the previous stage
-  MomentumRhs force_now, force_before;   // elastic force, end and start of the stage
-  Field3 phi;                            // solid fraction (empty: no particles)
-  MixtureStress stress;                  // the mixture's stress operators (for R)
-  StoredNu nu;                           // nu(phi) around solid_region (for R)
-  Range3 solid_region{};                 // where F or R can be nonzero
+  MomentumRhs now, before;              // N at this and the previous stage
+  MomentumRhs force_now, force_before;  // elastic force, end and start of the stage
+  Field3 phi;                           // solid fraction (empty: no particles)
+  MixtureStress stress;                 // the mixture's stress operators (for R)
+  StoredNu nu;                          // nu(phi) around solid_region (for R)
+  Range3 solid_region{};                // where F or R can be nonzero
 };
 
 // The three Helmholtz right-hand sides, in the Poisson solver's y-pencil order.
-inline void implicit_predictor(const Grid& g, const FlowState& s, const StageTerms& t,
-                               const ImplicitStage& c, const Array1& ru, const Array1& rv,
-                               const Array1& rw) {
+inline void implicit_predictor(const Grid& g, const FlowState& s, const StageTerms& t, const ImplicitStage& c,
+                               const Array1& ru, const Array1& rv, const Array1& rw) {
   const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz};
   const int ng = Grid::ng, ny = g.ny, nxl = g.nxl, vtop = Grid::ng + g.ny - 1;
   const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
@@ -61,56 +60,59 @@ inline void implicit_predictor(const Grid& g, const FlowState& s, const StageTer
   auto eu = t.force_before.u, ev = t.force_before.v, ew = t.force_before.w;
   const MixtureStress st = t.stress;
   const StoredNu n = t.nu;
-  par_for("implicit_predictor", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
-    Real xu = u(i, j, k) + c.gdt * nu(i, j, k) + c.zdt * bu(i, j, k) + c.beta * op.lap(u, i, j, k) -
-              c.adt * (p(i + 1, j, k) - p(i, j, k)) * idx;
-    Real xw = w(i, j, k) + c.gdt * nw(i, j, k) + c.zdt * bw(i, j, k) + c.beta * op.lap(w, i, j, k) -
-              c.adt * (p(i, j, k + 1) - p(i, j, k)) * idz;
-    Real xv = 0;
-    if (j < vtop)
-      xv = v(i, j, k) + c.gdt * nv(i, j, k) + c.zdt * bv(i, j, k) + c.beta * op.lap(v, i, j, k) -
-           c.adt * (p(i, j + 1, k) - p(i, j, k)) * idy;
-    if (j == ng) xu += wall_lo;
-    if (j == vtop) xu += wall_hi;
-    ru(m) = xu;
-    rv(m) = xv;
-    rw(m) = xw;
-  });
+  par_for(
+      "implicit_predictor", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
+        Real xu = u(i, j, k) + c.gdt * nu(i, j, k) + c.zdt * bu(i, j, k) + c.beta * op.lap(u, i, j, k) -
+                  c.adt * (p(i + 1, j, k) - p(i, j, k)) * idx;
+        Real xw = w(i, j, k) + c.gdt * nw(i, j, k) + c.zdt * bw(i, j, k) + c.beta * op.lap(w, i, j, k) -
+                  c.adt * (p(i, j, k + 1) - p(i, j, k)) * idz;
+        Real xv = 0;
+        if (j < vtop)
+          xv = v(i, j, k) + c.gdt * nv(i, j, k) + c.zdt * bv(i, j, k) + c.beta * op.lap(v, i, j, k) -
+               c.adt * (p(i, j + 1, k) - p(i, j, k)) * idy;
+        if (j == ng) xu += wall_lo;
+        if (j == vtop) xu += wall_hi;
+        ru(m) = xu;
+        rv(m) = xv;
+        rw(m) = xw;
+      });
   if (!solid) return;
   // the elastic force and the viscous remainder R, only where they can be nonzero
-  par_for("implicit_predictor_solid", t.solid_region, KOKKOS_LAMBDA(int i, int j, int k) {
-    const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
-    ru(m) += c.cdt * (fu(i, j, k) + eu(i, j, k)) +
-             c.adt * (st.viscous_u(u, v, w, n, i, j, k) - c.nu0 * op.lap(u, i, j, k));
-    rw(m) += c.cdt * (fw(i, j, k) + ew(i, j, k)) +
-             c.adt * (st.viscous_w(u, v, w, n, i, j, k) - c.nu0 * op.lap(w, i, j, k));
-    if (j < vtop)
-      rv(m) += c.cdt * (fv(i, j, k) + ev(i, j, k)) +
-               c.adt * (st.viscous_v(u, v, w, n, i, j, k) - c.nu0 * op.lap(v, i, j, k));
-  });
+  par_for(
+      "implicit_predictor_solid", t.solid_region, KOKKOS_LAMBDA(int i, int j, int k) {
+        const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
+        ru(m) += c.cdt * (fu(i, j, k) + eu(i, j, k)) +
+                 c.adt * (st.viscous_u(u, v, w, n, i, j, k) - c.nu0 * op.lap(u, i, j, k));
+        rw(m) += c.cdt * (fw(i, j, k) + ew(i, j, k)) +
+                 c.adt * (st.viscous_w(u, v, w, n, i, j, k) - c.nu0 * op.lap(w, i, j, k));
+        if (j < vtop)
+          rv(m) += c.cdt * (fv(i, j, k) + ev(i, j, k)) +
+                   c.adt * (st.viscous_v(u, v, w, n, i, j, k) - c.nu0 * op.lap(v, i, j, k));
+      });
 }
 
 // u, v, w from the solved y-pencil arrays (v's top wall row is not an unknown)
-inline void implicit_to_velocity(const Grid& g, const FlowState& s, const Array1& ru,
-                                 const Array1& rv, const Array1& rw) {
+inline void implicit_to_velocity(const Grid& g, const FlowState& s, const Array1& ru, const Array1& rv,
+                                 const Array1& rw) {
   const int ng = Grid::ng, ny = g.ny, nxl = g.nxl, vtop = Grid::ng + g.ny - 1;
   auto u = s.u, v = s.v, w = s.w;
-  par_for("implicit_copy_velocity", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
-    u(i, j, k) = ru(m);
-    w(i, j, k) = rw(m);
-    if (j < vtop) v(i, j, k) = rv(m);
-  });
+  par_for(
+      "implicit_copy_velocity", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
+        u(i, j, k) = ru(m);
+        w(i, j, k) = rw(m);
+        if (j < vtop) v(i, j, k) = rv(m);
+      });
 }
 
 // p += phi - beta L phi: the pressure update of the incremental projection
 // with implicit viscosity (phi's ghosts must be set)
 inline void pressure_increment(const Grid& g, const Field3& p, const Field3& phi, Real beta) {
   const AdvectionDiffusion op{1 / g.dx, 1 / g.dy, 1 / g.dz};
-  par_for("implicit_pressure_update", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    p(i, j, k) += phi(i, j, k) - beta * op.lap(phi, i, j, k);
-  });
+  par_for(
+      "implicit_pressure_update", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k) { p(i, j, k) += phi(i, j, k) - beta * op.lap(phi, i, j, k); });
 }
 
 }  // namespace softflow

@@ -21,12 +21,12 @@ struct Manufactured {
   Real amp = 0, omega = 1, a = 1, c = 1, h = 1, vw = 0, nu = 1;
 
   struct Point {
-    Real u, v, w;                 // velocity
-    Real ut, vt, wt;              // time derivatives
+    Real u, v, w;                             // velocity
+    Real ut, vt, wt;                          // time derivatives
     Real ux, uy, uz, vx, vy, vz, wx, wy, wz;  // gradient
-    Real lu, lv, lw;              // Laplacians
-    Real p;                       // pressure
-    Real px, py, pz;              // pressure gradient
+    Real lu, lv, lw;                          // Laplacians
+    Real p;                                   // pressure
+    Real px, py, pz;                          // pressure gradient
   };
 
   KOKKOS_INLINE_FUNCTION Point eval(Real x, Real y, Real z, Real t) const {

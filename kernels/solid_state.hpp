@@ -21,8 +21,7 @@ struct SolidFields {
   SolidFields() = default;
   SolidFields(const Grid& g, const std::string& label) {
     const char* names[n_solid_fields] = {"phi", "Bxx", "Bxy", "Bxz", "Byy", "Byz", "Bzz"};
-    for (int m = 0; m < n_solid_fields; ++m)
-      q[m] = Field3(label + "_" + names[m], g.sx(), g.sy(), g.sz());
+    for (int m = 0; m < n_solid_fields; ++m) q[m] = Field3(label + "_" + names[m], g.sx(), g.sy(), g.sz());
   }
   const Field3& phi() const { return q[0]; }
   const Field3& B(int m) const { return q[1 + m]; }
@@ -35,13 +34,20 @@ struct SolidViews {
       : phi(f.q[0]), b0(f.q[1]), b1(f.q[2]), b2(f.q[3]), b3(f.q[4]), b4(f.q[5]), b5(f.q[6]) {}
   KOKKOS_INLINE_FUNCTION const Field3& field(int m) const {
     switch (m) {
-      case 0: return phi;
-      case 1: return b0;
-      case 2: return b1;
-      case 3: return b2;
-      case 4: return b3;
-      case 5: return b4;
-      default: return b5;
+      case 0:
+        return phi;
+      case 1:
+        return b0;
+      case 2:
+        return b1;
+      case 3:
+        return b2;
+      case 4:
+        return b3;
+      case 5:
+        return b4;
+      default:
+        return b5;
     }
   }
   KOKKOS_INLINE_FUNCTION Real B(int m, int i, int j, int k) const { return field(1 + m)(i, j, k); }

@@ -12,8 +12,8 @@ inline Real max_advective_rate(const Grid& g, const FlowState& s) {
   par_reduce(
       "timestep_advective_rate", g.interior(),
       KOKKOS_LAMBDA(int i, int j, int k, Real& m) {
-        const Real a = Kokkos::fabs(u(i, j, k)) * idx + Kokkos::fabs(v(i, j, k)) * idy +
-                       Kokkos::fabs(w(i, j, k)) * idz;
+        const Real a =
+            Kokkos::fabs(u(i, j, k)) * idx + Kokkos::fabs(v(i, j, k)) * idy + Kokkos::fabs(w(i, j, k)) * idz;
         m = a > m ? a : m;
       },
       Kokkos::Max<Real>(r));

@@ -11,8 +11,8 @@ struct Gradient3 {
   Real L[3][3];
 };
 
-KOKKOS_INLINE_FUNCTION Gradient3 velocity_gradient(const Field3& u, const Field3& v, const Field3& w,
-                                                   int i, int j, int k, Real idx, Real idy, Real idz) {
+KOKKOS_INLINE_FUNCTION Gradient3 velocity_gradient(const Field3& u, const Field3& v, const Field3& w, int i,
+                                                   int j, int k, Real idx, Real idy, Real idz) {
   Gradient3 g;
   g.L[0][0] = (u(i, j, k) - u(i - 1, j, k)) * idx;
   g.L[1][1] = (v(i, j, k) - v(i, j - 1, k)) * idy;

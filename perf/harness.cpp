@@ -131,7 +131,8 @@ Options parse(int argc, char** argv) {
     }
   }
   if (o.case_file.empty()) throw InputError(std::string("no case file given\n") + usage);
-  if (o.steps < 1 || o.reps < 1 || o.warmup < 0) throw InputError("--steps and --reps must be >= 1, --warmup >= 0");
+  if (o.steps < 1 || o.reps < 1 || o.warmup < 0)
+    throw InputError("--steps and --reps must be >= 1, --warmup >= 0");
   return o;
 }
 
@@ -182,7 +183,8 @@ json run(const Options& o, MPI_Comm comm) {
     const auto t0 = Clock::now();
     take_steps(solver, o.steps);
     Kokkos::fence("perf_step_after");
-    step_s.push_back(max_over_ranks(std::chrono::duration<double>(Clock::now() - t0).count() / o.steps, comm));
+    step_s.push_back(
+        max_over_ranks(std::chrono::duration<double>(Clock::now() - t0).count() / o.steps, comm));
     step_norm.push_back(step_s.back() / unit_s.back());
 
     const size_t h0 = solver.halo().bytes_sent(), tr0 = solver.poisson().transposer().bytes_sent();
@@ -241,7 +243,8 @@ json run(const Options& o, MPI_Comm comm) {
                  {"triad_bytes_per_second_all_ranks", sum_over_ranks(stats(triad_bw).median, comm)}};
   j["step"] = {{"seconds", to_json(step)},
                {"cell_steps_per_second",
-                {{"min", cells_global / step.max}, {"median", cells_global / step.median},
+                {{"min", cells_global / step.max},
+                 {"median", cells_global / step.median},
                  {"max", cells_global / step.min}}},
                // the step time in units of streaming one Real per cell, per
                // repetition (the gate compares the minimum: the least disturbed)
@@ -263,10 +266,14 @@ json run(const Options& o, MPI_Comm comm) {
     if (auto t = kernel_traffic(label)) {
       // the table counts one call over its domain; per interior cell that is
       // scaled by the domain's share; bandwidth against this rank's triad
-      const double share = t->domain == Domain::box ? 1.0 : t->domain == Domain::solid ? solid_share : force_share;
+      const double share = t->domain == Domain::box     ? 1.0
+                           : t->domain == Domain::solid ? solid_share
+                                                        : force_share;
       const double bytes = (t->reads + t->writes) * sizeof(Real) * calls * share;
-      e["traffic"] = {{"reals_read_per_call", t->reads}, {"reals_written_per_call", t->writes},
-                      {"arrays", t->what}, {"bytes_per_cell_per_step", bytes}};
+      e["traffic"] = {{"reals_read_per_call", t->reads},
+                      {"reals_written_per_call", t->writes},
+                      {"arrays", t->what},
+                      {"bytes_per_cell_per_step", bytes}};
       e["bandwidth_bytes_per_second"] = bytes * cells / s.median;
       e["bandwidth_fraction_of_triad"] = bytes * cells / s.median / triad;
     }
@@ -280,10 +287,11 @@ json run(const Options& o, MPI_Comm comm) {
     rj[label] = {{"seconds_per_step", to_json(s)}, {"share_of_step", s.median / step.median}};
   }
   j["regions"] = rj;
-  j["communication"] = {{"halo_bytes_per_step_rank0", halo_bytes / steps_total},
-                        {"transpose_bytes_per_step_rank0", transpose_bytes / steps_total},
-                        {"halo_bytes_per_step_all_ranks", sum_over_ranks(halo_bytes, comm) / steps_total},
-                        {"transpose_bytes_per_step_all_ranks", sum_over_ranks(transpose_bytes, comm) / steps_total}};
+  j["communication"] = {
+      {"halo_bytes_per_step_rank0", halo_bytes / steps_total},
+      {"transpose_bytes_per_step_rank0", transpose_bytes / steps_total},
+      {"halo_bytes_per_step_all_ranks", sum_over_ranks(halo_bytes, comm) / steps_total},
+      {"transpose_bytes_per_step_all_ranks", sum_over_ranks(transpose_bytes, comm) / steps_total}};
   j["cross_space_copies_per_step"] = copies / steps_total;
   j["cross_space_bytes_per_step"] = copy_bytes / steps_total;
   return j;

@@ -16,8 +16,8 @@ namespace softflow::perf {
 enum class Domain { box, solid, solid_force };
 
 struct Traffic {
-  double reads = 0;   // Reals read per cell of its domain per call
-  double writes = 0;  // Reals written per cell of its domain per call
+  double reads = 0;       // Reals read per cell of its domain per call
+  double writes = 0;      // Reals written per cell of its domain per call
   const char* what = "";  // the arrays, for the JSON and the report
   Domain domain = Domain::box;
 };

@@ -31,11 +31,13 @@ Bandwidth StreamBench::measure(int reps) {
   for (int r = 0; r < reps; ++r) {
     Kokkos::fence("stream_before");
     auto t0 = Clock::now();
-    Kokkos::parallel_for("stream_copy", Range(0, n), KOKKOS_LAMBDA(long i) { b(i) = a(i); });
+    Kokkos::parallel_for(
+        "stream_copy", Range(0, n), KOKKOS_LAMBDA(long i) { b(i) = a(i); });
     Kokkos::fence("stream_after");
     tc = std::min(tc, std::chrono::duration<double>(Clock::now() - t0).count());
     t0 = Clock::now();
-    Kokkos::parallel_for("stream_triad", Range(0, n), KOKKOS_LAMBDA(long i) { a(i) = b(i) + s * c(i); });
+    Kokkos::parallel_for(
+        "stream_triad", Range(0, n), KOKKOS_LAMBDA(long i) { a(i) = b(i) + s * c(i); });
     Kokkos::fence("stream_after");
     tt = std::min(tt, std::chrono::duration<double>(Clock::now() - t0).count());
   }

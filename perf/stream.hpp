@@ -8,7 +8,7 @@
 namespace softflow::perf {
 
 struct Bandwidth {
-  double copy = 0;   // bytes per second, best of the repetitions
+  double copy = 0;  // bytes per second, best of the repetitions
   double triad = 0;
 };
 

@@ -122,11 +122,12 @@ Config parse_config(const std::string& text, const std::string& name,
   }
   for (const auto& o : overrides) apply_override(root, o);
 
-  const std::set<std::string> tables = {"grid", "fluid", "walls", "time", "initial",
+  const std::set<std::string> tables = {"grid",   "fluid",    "walls",     "time",   "initial",
                                         "output", "parallel", "particles", "restart"};
   for (auto&& [k, v] : root) {
     if (!tables.count(std::string(k.str())))
-      throw InputError("unknown key '" + std::string(k.str()) + "' (tables: grid, fluid, walls, "
+      throw InputError("unknown key '" + std::string(k.str()) +
+                       "' (tables: grid, fluid, walls, "
                        "time, initial, output, parallel, particles, restart)");
   }
 
@@ -167,8 +168,7 @@ Config parse_config(const std::string& text, const std::string& name,
     TableReader r(root, "time");
     bool has_strain = r.read("end_strain", c.time.end_strain, false);
     bool has_time = r.read("end_time", c.time.end_time, false);
-    if (has_strain == has_time)
-      throw InputError("give exactly one of 'time.end_strain' and 'time.end_time'");
+    if (has_strain == has_time) throw InputError("give exactly one of 'time.end_strain' and 'time.end_time'");
     if (has_strain) {
       r.non_negative("end_strain", c.time.end_strain);
       if (c.walls.velocity == 0)
@@ -180,7 +180,8 @@ Config parse_config(const std::string& text, const std::string& name,
     r.read("max_steps", c.time.max_steps, false);
     r.read("viscous", c.time.viscous, false);
     if (c.time.viscous != "explicit" && c.time.viscous != "implicit")
-      throw InputError("'time.viscous' must be \"explicit\" or \"implicit\" (got \"" + c.time.viscous + "\")");
+      throw InputError("'time.viscous' must be \"explicit\" or \"implicit\" (got \"" + c.time.viscous +
+                       "\")");
     r.positive("cfl", c.time.cfl);
     if (c.time.cfl > 1) throw InputError("'time.cfl' must be at most 1 (it scales the stability limits)");
     r.positive("dt_max", c.time.dt_max);
@@ -245,10 +246,12 @@ Config parse_config(const std::string& text, const std::string& name,
         if (p.placement != "random" && p.placement != "centre")
           throw InputError("'particles.placement' must be \"random\" or \"centre\"");
         // one sphere, given as count = 1 or by a volume fraction of one sphere in the box
-        const double one = 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius / (c.grid.lx * c.grid.ly * c.grid.lz);
+        const double one =
+            4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius / (c.grid.lx * c.grid.ly * c.grid.lz);
         if (p.placement == "centre" && !(has_n ? p.count == 1 : std::lround(p.volume_fraction / one) == 1))
-          throw InputError("'particles.placement = \"centre\"' needs one sphere ('particles.count = 1', or a "
-                           "volume fraction that rounds to one sphere)");
+          throw InputError(
+              "'particles.placement = \"centre\"' needs one sphere ('particles.count = 1', or a "
+              "volume fraction that rounds to one sphere)");
         r.read("min_gap", p.min_gap, false);
         r.non_negative("min_gap", p.min_gap);
         long seed = 1;
@@ -259,8 +262,8 @@ Config parse_config(const std::string& text, const std::string& name,
         r.positive("subsamples", p.subsamples);
         if (2 * (p.radius + p.min_gap) > c.grid.ly)
           throw InputError("particles of radius " + std::to_string(p.radius) + " and gap " +
-                           std::to_string(p.min_gap) + " do not fit between the walls (ly = " +
-                           std::to_string(c.grid.ly) + ")");
+                           std::to_string(p.min_gap) +
+                           " do not fit between the walls (ly = " + std::to_string(c.grid.ly) + ")");
       } else {
         r.read("layer_thickness", p.layer_thickness, true);
         r.positive("layer_thickness", p.layer_thickness);
@@ -274,8 +277,9 @@ Config parse_config(const std::string& text, const std::string& name,
       if (has_ca) {
         r.positive("capillary", p.capillary);
         if (c.walls.velocity == 0)
-          throw InputError("'particles.capillary' needs a non-zero 'walls.velocity' (Ca = mu_f gamma / G); "
-                           "give 'particles.shear_modulus' instead");
+          throw InputError(
+              "'particles.capillary' needs a non-zero 'walls.velocity' (Ca = mu_f gamma / G); "
+              "give 'particles.shear_modulus' instead");
       }
       if (has_g) r.positive("shear_modulus", p.shear_modulus);
       r.read("viscosity_ratio", p.viscosity_ratio, false);
@@ -304,8 +308,8 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 
 namespace {
 std::string divide_error(const char* what, int n, const char* by, int p, const char* why) {
-  return std::string("grid.") + what + " = " + std::to_string(n) + " is not divisible by " + by +
-         " = " + std::to_string(p) + " (" + why + ")";
+  return std::string("grid.") + what + " = " + std::to_string(n) + " is not divisible by " + by + " = " +
+         std::to_string(p) + " (" + why + ")";
 }
 }  // namespace
 
@@ -318,32 +322,36 @@ void resolve_rank_grid(Config& c, int nranks) {
     for (int a = 1; a <= nranks; ++a) {
       if (nranks % a) continue;
       int b = nranks / a;
-      bool ok = c.grid.nx % a == 0 && c.grid.nz % b == 0 && c.grid.ny % a == 0 &&
-                c.grid.ny % b == 0 && c.grid.nx / a >= 3 && c.grid.nz / b >= 3;
+      bool ok = c.grid.nx % a == 0 && c.grid.nz % b == 0 && c.grid.ny % a == 0 && c.grid.ny % b == 0 &&
+                c.grid.nx / a >= 3 && c.grid.nz / b >= 3;
       if (ok && (best < 0 || std::abs(a - b) < std::abs(best - nranks / best))) best = a;
     }
     if (best < 0)
-      throw InputError("no rank grid px x pz = " + std::to_string(nranks) +
-                       " divides the grid " + std::to_string(c.grid.nx) + " x " +
-                       std::to_string(c.grid.ny) + " x " + std::to_string(c.grid.nz) +
-                       " (px must divide nx and ny, pz must divide nz and ny)");
+      throw InputError("no rank grid px x pz = " + std::to_string(nranks) + " divides the grid " +
+                       std::to_string(c.grid.nx) + " x " + std::to_string(c.grid.ny) + " x " +
+                       std::to_string(c.grid.nz) + " (px must divide nx and ny, pz must divide nz and ny)");
     px = best;
     pz = nranks / best;
   } else if (px == 0 || pz == 0) {
     int given = px ? px : pz;
     if (nranks % given)
-      throw InputError("parallel." + std::string(px ? "px" : "pz") + " = " +
-                       std::to_string(given) + " does not divide the " +
-                       std::to_string(nranks) + " MPI ranks");
+      throw InputError("parallel." + std::string(px ? "px" : "pz") + " = " + std::to_string(given) +
+                       " does not divide the " + std::to_string(nranks) + " MPI ranks");
     (px ? pz : px) = nranks / given;
   }
   if (px * pz != nranks)
-    throw InputError("parallel.px * parallel.pz = " + std::to_string(px * pz) +
-                     " but the run has " + std::to_string(nranks) + " MPI ranks");
-  if (c.grid.nx % px) throw InputError(divide_error("nx", c.grid.nx, "parallel.px", px, "x is split among px ranks"));
-  if (c.grid.nz % pz) throw InputError(divide_error("nz", c.grid.nz, "parallel.pz", pz, "z is split among pz ranks"));
-  if (c.grid.ny % px) throw InputError(divide_error("ny", c.grid.ny, "parallel.px", px, "the FFT in x splits y among px ranks"));
-  if (c.grid.ny % pz) throw InputError(divide_error("ny", c.grid.ny, "parallel.pz", pz, "the FFT in z splits y among pz ranks"));
+    throw InputError("parallel.px * parallel.pz = " + std::to_string(px * pz) + " but the run has " +
+                     std::to_string(nranks) + " MPI ranks");
+  if (c.grid.nx % px)
+    throw InputError(divide_error("nx", c.grid.nx, "parallel.px", px, "x is split among px ranks"));
+  if (c.grid.nz % pz)
+    throw InputError(divide_error("nz", c.grid.nz, "parallel.pz", pz, "z is split among pz ranks"));
+  if (c.grid.ny % px)
+    throw InputError(
+        divide_error("ny", c.grid.ny, "parallel.px", px, "the FFT in x splits y among px ranks"));
+  if (c.grid.ny % pz)
+    throw InputError(
+        divide_error("ny", c.grid.ny, "parallel.pz", pz, "the FFT in z splits y among pz ranks"));
   // a rank's block must be at least as wide as the ghost layers it sends
   if (c.grid.nx / px < 3)
     throw InputError("grid.nx / parallel.px = " + std::to_string(c.grid.nx / px) +

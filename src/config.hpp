@@ -16,8 +16,8 @@ struct InputError : std::runtime_error {
 };
 
 struct GridConfig {
-  int nx = 0, ny = 0, nz = 0;  // cells
-  Real lx = 0, ly = 0, lz = 0; // box; walls at y = -ly/2 and +ly/2
+  int nx = 0, ny = 0, nz = 0;   // cells
+  Real lx = 0, ly = 0, lz = 0;  // box; walls at y = -ly/2 and +ly/2
 };
 
 struct FluidConfig {
@@ -33,18 +33,18 @@ struct WallConfig {
 // The solid phase. Absent ([particles] not given): no phi, no B, no cost.
 struct ParticleConfig {
   bool enabled = false;
-  std::string shape = "spheres";  // "spheres", or "layer": a solid slab |y| < thickness / 2
-  Real radius = 1;                // sphere radius r
-  Real volume_fraction = -1;      // Phi of the box, or
-  int count = -1;                 // the number of spheres (exactly one of the two)
+  std::string shape = "spheres";     // "spheres", or "layer": a solid slab |y| < thickness / 2
+  Real radius = 1;                   // sphere radius r
+  Real volume_fraction = -1;         // Phi of the box, or
+  int count = -1;                    // the number of spheres (exactly one of the two)
   std::string placement = "random";  // "random", or "centre" (one sphere at the box centre)
-  Real min_gap = 0.1;             // smallest surface-to-surface gap at seeding, also to the walls
-  unsigned long seed = 1;         // random placement seed
-  int subsamples = 8;             // sub-cell samples per direction for phi at interfaces
-  Real layer_thickness = 0;       // shape = "layer"
-  Real capillary = -1;            // Ca = mu_f gamma / G, or
-  Real shear_modulus = -1;        // G (exactly one of the two)
-  Real viscosity_ratio = 1;       // K = mu_s / mu_f
+  Real min_gap = 0.1;                // smallest surface-to-surface gap at seeding, also to the walls
+  unsigned long seed = 1;            // random placement seed
+  int subsamples = 8;                // sub-cell samples per direction for phi at interfaces
+  Real layer_thickness = 0;          // shape = "layer"
+  Real capillary = -1;               // Ca = mu_f gamma / G, or
+  Real shear_modulus = -1;           // G (exactly one of the two)
+  Real viscosity_ratio = 1;          // K = mu_s / mu_f
 };
 
 struct TimeConfig {
@@ -70,11 +70,11 @@ struct InitialConfig {
 
 struct OutputConfig {
   std::string dir = "output";
-  long progress_every = 100;    // steps between progress lines (0: none)
-  long series_every = 10;       // steps between time-series rows (0: none)
-  Real fields_every = 0;        // strain units between field snapshots (0: only at the end)
-  long checkpoint_every = 0;    // steps between checkpoints (0: only at the end)
-  long profiles_every = 100;    // steps between profile samples in profiles_series.csv (0: none)
+  long progress_every = 100;      // steps between progress lines (0: none)
+  long series_every = 10;         // steps between time-series rows (0: none)
+  Real fields_every = 0;          // strain units between field snapshots (0: only at the end)
+  long checkpoint_every = 0;      // steps between checkpoints (0: only at the end)
+  long profiles_every = 100;      // steps between profile samples in profiles_series.csv (0: none)
   Real average_from_strain = -1;  // start of the time averages (< 0: detected, see src/averaging.hpp)
 };
 
@@ -91,9 +91,9 @@ struct Config {
   OutputConfig output;
   ParallelConfig parallel;
   ParticleConfig particles;
-  std::string restart;     // checkpoint to start from ("" = none)
-  std::string case_name;   // file stem of the case file
-  std::string source_text; // the resolved case, as TOML, for the run summary
+  std::string restart;      // checkpoint to start from ("" = none)
+  std::string case_name;    // file stem of the case file
+  std::string source_text;  // the resolved case, as TOML, for the run summary
 
   Real h() const { return grid.ly / 2; }
   Real shear_rate() const { return walls.velocity / h(); }  // gamma = V_w / h

@@ -27,7 +27,8 @@ CsvSeries::CsvSeries(bool root, const std::string& path, const std::string& head
     std::string line;
     if (in && std::getline(in, line)) {
       while (std::getline(in, line))
-        if (!line.empty() && line[0] != '#' && std::atol(line.c_str()) <= keep_up_to_step) text += line + "\n";
+        if (!line.empty() && line[0] != '#' && std::atol(line.c_str()) <= keep_up_to_step)
+          text += line + "\n";
     }
   }
   const std::string tmp = path + ".tmp";

@@ -77,7 +77,8 @@ void Diagnostics::plane_sums() {
               }
               // the x-y edge (i + 1/2, jf + 1/2)
               const Real s12 = (u(i, jf + 1, k) - u(i, jf, k)) * idy + (v(i + 1, jf, k) - v(i, jf, k)) * idx;
-              const Real ue = 0.5 * (u(i, jf, k) + u(i, jf + 1, k)), ve = 0.5 * (v(i, jf, k) + v(i + 1, jf, k));
+              const Real ue = 0.5 * (u(i, jf, k) + u(i, jf + 1, k)),
+                         ve = 0.5 * (v(i, jf, k) + v(i + 1, jf, k));
               Real pe = 0, be = 0;
               if (solid) {
                 const Real p00 = fraction(phi(i, jf, k)), p10 = fraction(phi(i + 1, jf, k)),
@@ -100,8 +101,7 @@ void Diagnostics::plane_sums() {
         });
       });
   Kokkos::deep_copy(host_, sums_);
-  MPI_Allreduce(MPI_IN_PLACE, host_.data(), int(host_.size()), MPI_DOUBLE, MPI_SUM,
-                s_.decomposition().comm);
+  MPI_Allreduce(MPI_IN_PLACE, host_.data(), int(host_.size()), MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
 }
 
 FlowProfiles Diagnostics::profiles() {

@@ -36,13 +36,20 @@ struct FlowScalars {
   Real fluid_viscous = 0, fluid_reynolds = 0, particle_viscous = 0, particle_reynolds = 0,
        particle_elastic = 0;
   // solid phase (zero without particles)
-  Real solid_volume = 0;    // sum of phi dV (unclamped: conserved to round-off)
+  Real solid_volume = 0;  // sum of phi dV (unclamped: conserved to round-off)
   Real phi_min = 0, phi_max = 0;
   Real detb_min = 1, detb_max = 1;  // det B over cells with phi > 0.5 (exactly 1 in theory)
 };
 
 // Budget terms, in the order of the comment above.
-enum BudgetTerm { fluid_viscous, particle_viscous, particle_elastic, fluid_reynolds, particle_reynolds, n_budget };
+enum BudgetTerm {
+  fluid_viscous,
+  particle_viscous,
+  particle_elastic,
+  fluid_reynolds,
+  particle_reynolds,
+  n_budget
+};
 const char* budget_name(int term);
 
 struct FlowProfiles {

@@ -29,10 +29,10 @@ LineFft::LineFft(int n, long howmany, Array1 data) : plans_(new Plans) {
   std::lock_guard<std::mutex> lock(planner_mutex());
   fftw_r2r_kind f = FFTW_R2HC, b = FFTW_HC2R;
   int hm = int(howmany);
-  plans_->fwd = fftw_plan_many_r2r(1, &n, hm, data.data(), nullptr, 1, n, data.data(), nullptr, 1,
-                                   n, &f, FFTW_ESTIMATE);
-  plans_->bwd = fftw_plan_many_r2r(1, &n, hm, data.data(), nullptr, 1, n, data.data(), nullptr, 1,
-                                   n, &b, FFTW_ESTIMATE);
+  plans_->fwd = fftw_plan_many_r2r(1, &n, hm, data.data(), nullptr, 1, n, data.data(), nullptr, 1, n, &f,
+                                   FFTW_ESTIMATE);
+  plans_->bwd = fftw_plan_many_r2r(1, &n, hm, data.data(), nullptr, 1, n, data.data(), nullptr, 1, n, &b,
+                                   FFTW_ESTIMATE);
   if (!plans_->fwd || !plans_->bwd) throw std::runtime_error("FFTW could not make a plan");
 }
 

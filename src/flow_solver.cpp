@@ -15,11 +15,16 @@ namespace softflow {
 
 const char* to_string(DtLimit l) {
   switch (l) {
-    case DtLimit::advective: return "advective";
-    case DtLimit::viscous: return "viscous";
-    case DtLimit::elastic: return "elastic";
-    case DtLimit::dt_max: return "dt_max";
-    case DtLimit::end_time: return "end";
+    case DtLimit::advective:
+      return "advective";
+    case DtLimit::viscous:
+      return "viscous";
+    case DtLimit::elastic:
+      return "elastic";
+    case DtLimit::dt_max:
+      return "dt_max";
+    case DtLimit::end_time:
+      return "end";
   }
   return "?";
 }
@@ -81,16 +86,17 @@ void FlowSolver::initialize() {
   const std::string& type = cfg_.initial.type;
   if (type == "couette") {
     const Real vw = cfg_.walls.velocity, h = g.h();
-    par_for("init_couette", g.interior(),
-            KOKKOS_LAMBDA(int i, int j, int k) { u(i, j, k) = vw * g.yc(j) / h; });
+    par_for(
+        "init_couette", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) { u(i, j, k) = vw * g.yc(j) / h; });
   } else if (type == "manufactured") {
     const Manufactured m = mms_;
     const int vtop = Grid::ng + g.ny - 1;
-    par_for("init_manufactured", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-      u(i, j, k) = m.eval(g.xf(i), g.yc(j), g.zc(k), 0).u;
-      w(i, j, k) = m.eval(g.xc(i), g.yc(j), g.zf(k), 0).w;
-      if (j < vtop) v(i, j, k) = m.eval(g.xc(i), g.yf(j), g.zc(k), 0).v;
-    });
+    par_for(
+        "init_manufactured", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          u(i, j, k) = m.eval(g.xf(i), g.yc(j), g.zc(k), 0).u;
+          w(i, j, k) = m.eval(g.xc(i), g.yc(j), g.zf(k), 0).w;
+          if (j < vtop) v(i, j, k) = m.eval(g.xc(i), g.yf(j), g.zc(k), 0).v;
+        });
   }
   time = 0;
   step = 0;
@@ -103,9 +109,9 @@ void FlowSolver::initialize() {
     Kokkos::deep_copy(p, 0.0);
     if (mms_.enabled) {
       const Manufactured m = mms_;
-      par_for("init_manufactured_pressure", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-        p(i, j, k) = m.eval(g.xc(i), g.yc(j), g.zc(k), 0).p;
-      });
+      par_for(
+          "init_manufactured_pressure", g.interior(),
+          KOKKOS_LAMBDA(int i, int j, int k) { p(i, j, k) = m.eval(g.xc(i), g.yc(j), g.zc(k), 0).p; });
     }
     fill_pressure_ghosts();
   }
@@ -132,9 +138,9 @@ Real FlowSolver::stable_dt(DtLimit* which) {
   const Real dt_adv = rate > 0 ? std::sqrt(3.0) / rate : 1e300;
   // with particles the mixture's largest viscosity sets the viscous limit
   const Real kmax = solid_ ? std::max(Real(1), cfg_.particles.viscosity_ratio) : Real(1);
-  const Real dt_visc = implicit_ ? Real(1e300)
-                                 : 2.51 / (4 * cfg_.nu() * kmax *
-                                           (1 / (g.dx * g.dx) + 1 / (g.dy * g.dy) + 1 / (g.dz * g.dz)));
+  const Real dt_visc =
+      implicit_ ? Real(1e300)
+                : 2.51 / (4 * cfg_.nu() * kmax * (1 / (g.dx * g.dx) + 1 / (g.dy * g.dy) + 1 / (g.dz * g.dz)));
   const Real dt_el = solid_ ? solid_->elastic_dt(stretch) : Real(1e300);
   const Real lim = std::min({dt_adv, dt_visc, dt_el});
   Real dt = cfg_.time.cfl * lim;
@@ -180,11 +186,11 @@ void FlowSolver::explicit_stage(int s, Real dt) {
   if (solid_) {
     // the fluid's terms over the box, the mixture's excess viscosity near the solid only
     momentum_rhs(grid_, state_, cfg_.nu(), mms_, time + Rk3::c[s] * dt, rhs_now_);
-    momentum_viscous_excess(grid_, state_, solid_->stress(), solid_->viscosity(solid_->force_region()), rhs_now_,
-                            solid_->force_region());
+    momentum_viscous_excess(grid_, state_, solid_->stress(), solid_->viscosity(solid_->force_region()),
+                            rhs_now_, solid_->force_region());
     solid_->advance_stage(state_, gdt, zdt);
-    rk3_update_cn(grid_, state_, rhs_now_, rhs_before_, gdt, zdt, solid_->force_now(),
-                  solid_->force_before(), adt / 2);
+    rk3_update_cn(grid_, state_, rhs_now_, rhs_before_, gdt, zdt, solid_->force_now(), solid_->force_before(),
+                  adt / 2);
     solid_->end_stage();
   } else {
     momentum_rhs(grid_, state_, cfg_.nu(), mms_, time + Rk3::c[s] * dt, rhs_now_);

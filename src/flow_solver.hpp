@@ -21,9 +21,9 @@ class FlowSolver {
   // cfg.parallel must already be resolved for the communicator's size
   FlowSolver(const Config& cfg, MPI_Comm comm);
 
-  void initialize();            // from cfg.initial, then project
+  void initialize();                         // from cfg.initial, then project
   Real stable_dt(DtLimit* which = nullptr);  // cfl times the smallest stability limit
-  void advance(Real dt);        // one RK3 step: three stages, three projections
+  void advance(Real dt);                     // one RK3 step: three stages, three projections
   bool implicit_viscous() const { return implicit_; }
   // the constant kinematic viscosity taken implicitly: max(mu_f, mu_s) / rho
   Real implicit_nu() const { return nu0_; }

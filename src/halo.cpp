@@ -52,16 +52,16 @@ void Halo::exchange_dir(int dir, const Field3* f, int nf) {
     for (int m = 0; m < nf; ++m) {
       Field3 a = f[m];
       Range3 r = dir == 0 ? Range3{0, ng, 0, nb, c0, c0 + nc} : Range3{0, nc, 0, nb, 0, ng};
-      par_for(dir == 0 ? "halo_periodic_x" : "halo_periodic_z", r,
-              KOKKOS_LAMBDA(int i, int j, int k) {
-                if (dir == 0) {
-                  a(i, j, k) = a(i + n, j, k);
-                  a(i + n + ng, j, k) = a(i + ng, j, k);
-                } else {
-                  a(i, j, k) = a(i, j, k + n);
-                  a(i, j, k + n + ng) = a(i, j, k + ng);
-                }
-              });
+      par_for(
+          dir == 0 ? "halo_periodic_x" : "halo_periodic_z", r, KOKKOS_LAMBDA(int i, int j, int k) {
+            if (dir == 0) {
+              a(i, j, k) = a(i + n, j, k);
+              a(i + n + ng, j, k) = a(i + ng, j, k);
+            } else {
+              a(i, j, k) = a(i, j, k + n);
+              a(i, j, k + n + ng) = a(i, j, k + ng);
+            }
+          });
     }
     return;
   }
@@ -71,16 +71,17 @@ void Halo::exchange_dir(int dir, const Field3* f, int nf) {
     Field3 a = f[m];
     const long off = m * slab;
     Range3 r{0, ng, 0, nb, 0, nc};
-    par_for(dir == 0 ? "halo_pack_x" : "halo_pack_z", r, KOKKOS_LAMBDA(int s, int j, int c) {
-      const long q = off + s + long(ng) * (j + long(nb) * c);
-      if (dir == 0) {
-        slo(q) = a(ng + s, j, c0 + c);
-        shi(q) = a(n + s, j, c0 + c);
-      } else {
-        slo(q) = a(c, j, ng + s);
-        shi(q) = a(c, j, n + s);
-      }
-    });
+    par_for(
+        dir == 0 ? "halo_pack_x" : "halo_pack_z", r, KOKKOS_LAMBDA(int s, int j, int c) {
+          const long q = off + s + long(ng) * (j + long(nb) * c);
+          if (dir == 0) {
+            slo(q) = a(ng + s, j, c0 + c);
+            shi(q) = a(n + s, j, c0 + c);
+          } else {
+            slo(q) = a(c, j, ng + s);
+            shi(q) = a(c, j, n + s);
+          }
+        });
   }
   MPI_Comm comm = dir == 0 ? dec_.xcomm : dec_.zcomm;
   int lo = dir == 0 ? left_x_ : left_z_, hi = dir == 0 ? right_x_ : right_z_;
@@ -99,18 +100,19 @@ void Halo::exchange_dir(int dir, const Field3* f, int nf) {
     Field3 a = f[m];
     const long off = m * slab;
     Range3 r{0, ng, 0, nb, 0, nc};
-    par_for(dir == 0 ? "halo_unpack_x" : "halo_unpack_z", r, KOKKOS_LAMBDA(int s, int j, int c) {
-      const long q = off + s + long(ng) * (j + long(nb) * c);
-      // from the low neighbour: its top slab fills my low ghosts; from the high
-      // neighbour: its bottom interior slab fills my high ghosts
-      if (dir == 0) {
-        a(s, j, c0 + c) = rlo(q);
-        a(n + ng + s, j, c0 + c) = rhi(q);
-      } else {
-        a(c, j, s) = rlo(q);
-        a(c, j, n + ng + s) = rhi(q);
-      }
-    });
+    par_for(
+        dir == 0 ? "halo_unpack_x" : "halo_unpack_z", r, KOKKOS_LAMBDA(int s, int j, int c) {
+          const long q = off + s + long(ng) * (j + long(nb) * c);
+          // from the low neighbour: its top slab fills my low ghosts; from the high
+          // neighbour: its bottom interior slab fills my high ghosts
+          if (dir == 0) {
+            a(s, j, c0 + c) = rlo(q);
+            a(n + ng + s, j, c0 + c) = rhi(q);
+          } else {
+            a(c, j, s) = rlo(q);
+            a(c, j, n + ng + s) = rhi(q);
+          }
+        });
   }
 }
 

@@ -28,14 +28,15 @@ void FieldFile::stage_out(const H5Item& it) {
   auto d = dev_;
   const Sample s = it.sample;
   const int ng = Grid::ng;
-  par_for("io_stage", Range3{0, g_.nxl, 0, g_.ny, 0, g_.nzl}, KOKKOS_LAMBDA(int i, int j, int k) {
-    const int a = i + ng, b = j + ng, c = k + ng;
-    Real x = f(a, b, c);
-    if (s == Sample::x_face_to_centre) x = 0.5 * (x + f(a - 1, b, c));
-    if (s == Sample::y_face_to_centre) x = 0.5 * (x + f(a, b - 1, c));
-    if (s == Sample::z_face_to_centre) x = 0.5 * (x + f(a, b, c - 1));
-    d(i, j, k) = x;
-  });
+  par_for(
+      "io_stage", Range3{0, g_.nxl, 0, g_.ny, 0, g_.nzl}, KOKKOS_LAMBDA(int i, int j, int k) {
+        const int a = i + ng, b = j + ng, c = k + ng;
+        Real x = f(a, b, c);
+        if (s == Sample::x_face_to_centre) x = 0.5 * (x + f(a - 1, b, c));
+        if (s == Sample::y_face_to_centre) x = 0.5 * (x + f(a, b - 1, c));
+        if (s == Sample::z_face_to_centre) x = 0.5 * (x + f(a, b, c - 1));
+        d(i, j, k) = x;
+      });
   Kokkos::deep_copy(host_, dev_);
 }
 
@@ -55,9 +56,9 @@ void FieldFile::write(const std::string& path, const std::vector<H5Item>& items,
   for (const auto& it : items) {
     stage_out(it);
     hid_t fspace = H5Screate_simple(3, gdims, nullptr);
-    hid_t dset = check_id(H5Dcreate2(file, it.name.c_str(), H5T_NATIVE_DOUBLE, fspace, H5P_DEFAULT,
-                                     H5P_DEFAULT, H5P_DEFAULT),
-                          "cannot create dataset " + it.name);
+    hid_t dset = check_id(
+        H5Dcreate2(file, it.name.c_str(), H5T_NATIVE_DOUBLE, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        "cannot create dataset " + it.name);
     H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
     hid_t mspace = H5Screate_simple(3, count, nullptr);
     check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, mspace, fspace, dxpl, host_.data()),
@@ -85,8 +86,7 @@ void FieldFile::write(const std::string& path, const std::vector<H5Item>& items,
   check(H5Fclose(file), "closing '" + path + "'");
 }
 
-std::map<std::string, double> FieldFile::read(const std::string& path,
-                                              const std::vector<H5Item>& items,
+std::map<std::string, double> FieldFile::read(const std::string& path, const std::vector<H5Item>& items,
                                               const std::vector<std::string>& attribute_names) {
   if (!std::filesystem::exists(path)) throw InputError("restart file '" + path + "' does not exist");
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
@@ -118,16 +118,18 @@ std::map<std::string, double> FieldFile::read(const std::string& path,
     hid_t dset = H5Dopen2(file, it.name.c_str(), H5P_DEFAULT);
     hid_t fspace = H5Dget_space(dset);
     hsize_t dims[3] = {0, 0, 0};
-    if (H5Sget_simple_extent_ndims(fspace) != 3) dims[0] = 0;
-    else H5Sget_simple_extent_dims(fspace, dims, nullptr);
+    if (H5Sget_simple_extent_ndims(fspace) != 3)
+      dims[0] = 0;
+    else
+      H5Sget_simple_extent_dims(fspace, dims, nullptr);
     if (dims[0] != hsize_t(g_.nz) || dims[1] != hsize_t(g_.ny) || dims[2] != hsize_t(g_.nx)) {
       H5Sclose(fspace);
       H5Dclose(dset);
       H5Fclose(file);
       throw InputError("restart file '" + path + "': dataset '" + it.name + "' is " +
                        std::to_string(dims[2]) + " x " + std::to_string(dims[1]) + " x " +
-                       std::to_string(dims[0]) + ", the case's grid is " + std::to_string(g_.nx) +
-                       " x " + std::to_string(g_.ny) + " x " + std::to_string(g_.nz));
+                       std::to_string(dims[0]) + ", the case's grid is " + std::to_string(g_.nx) + " x " +
+                       std::to_string(g_.ny) + " x " + std::to_string(g_.nz));
     }
     H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
     hid_t mspace = H5Screate_simple(3, count, nullptr);
@@ -139,8 +141,9 @@ std::map<std::string, double> FieldFile::read(const std::string& path,
     auto f = it.field;
     auto d = dev_;
     const int ng = Grid::ng;
-    par_for("io_unstage", Range3{0, g_.nxl, 0, g_.ny, 0, g_.nzl},
-            KOKKOS_LAMBDA(int i, int j, int k) { f(i + ng, j + ng, k + ng) = d(i, j, k); });
+    par_for(
+        "io_unstage", Range3{0, g_.nxl, 0, g_.ny, 0, g_.nzl},
+        KOKKOS_LAMBDA(int i, int j, int k) { f(i + ng, j + ng, k + ng) = d(i, j, k); });
   }
   H5Pclose(dxpl);
   H5Fclose(file);

@@ -32,7 +32,8 @@ std::string series_header(bool solid) {
   return h;
 }
 const char* particles_header =
-    "step,time,strain,count,taylor_mean,taylor_std,a_xy_mean,b_xy_mean,a_mean,b_mean,c_mean,angle_mean_deg,phi_e,"
+    "step,time,strain,count,taylor_mean,taylor_std,a_xy_mean,b_xy_mean,a_mean,b_mean,c_mean,angle_mean_deg,"
+    "phi_e,"
     "axes_scale_mean";
 std::string profiles_header() {
   std::string h = "step,strain,row,y_centre,u_mean,phi_mean,y_face";
@@ -95,7 +96,8 @@ void Output::series_row(const FlowScalars& f, Real dt) {
   r << std::setprecision(10) << s_.step << "," << s_.time << "," << s_.time * s_.config().shear_rate() << ","
     << dt << "," << f.kinetic_energy << "," << f.max_div << "," << f.max_speed << "," << f.tau_bottom << ","
     << f.tau_top << "," << f.mu_eff << "," << f.n1 << "," << f.n2 << "," << f.fluid_viscous << ","
-    << f.particle_viscous << "," << f.particle_elastic << "," << f.fluid_reynolds << "," << f.particle_reynolds;
+    << f.particle_viscous << "," << f.particle_elastic << "," << f.fluid_reynolds << ","
+    << f.particle_reynolds;
   if (s_.solid())
     r << "," << f.solid_volume << "," << f.phi_min << "," << f.phi_max << "," << f.detb_min << ","
       << f.detb_max;
@@ -104,7 +106,8 @@ void Output::series_row(const FlowScalars& f, Real dt) {
 
 void Output::particles_row(const std::vector<ParticleShape>& shapes) {
   const Grid& g = s_.grid();
-  double n = double(shapes.size()), t = 0, t2 = 0, axy = 0, bxy = 0, a = 0, b = 0, c = 0, ang = 0, b3 = 0, sc = 0;
+  double n = double(shapes.size()), t = 0, t2 = 0, axy = 0, bxy = 0, a = 0, b = 0, c = 0, ang = 0, b3 = 0,
+         sc = 0;
   for (const auto& p : shapes) {
     t += p.taylor, t2 += p.taylor * p.taylor, axy += p.a_xy, bxy += p.b_xy, sc += p.axes_scale;
     a += p.a, b += p.b, c += p.c, ang += p.angle, b3 += p.b_xy * p.b_xy * p.b_xy;
@@ -128,8 +131,10 @@ void Output::profile_sample(const FlowProfiles& p) {
   for (size_t j = 0; j < p.y_face.size(); ++j) {
     r.str("");
     r << s_.step << "," << strain << "," << j << ",";
-    if (j < p.y_centre.size()) r << p.y_centre[j] << "," << p.u_mean[j] << "," << p.phi_mean[j] << ",";
-    else r << ",,,";
+    if (j < p.y_centre.size())
+      r << p.y_centre[j] << "," << p.u_mean[j] << "," << p.phi_mean[j] << ",";
+    else
+      r << ",,,";
     r << p.y_face[j];
     for (int b = 0; b < n_budget; ++b) r << "," << p.budget[b][j];
     profiles_.append(r.str());
@@ -208,8 +213,11 @@ void Output::checkpoint(const std::vector<ParticleShape>& particles) {
   std::map<std::string, std::vector<double>> arrays;
   if (s_.solid()) arrays["particle_centroids"] = centroids;
   file_.write(path + ".tmp", items,
-              {{"time", s_.time}, {"step", double(s_.step)}, {"nx", double(g.nx)},
-               {"ny", double(g.ny)}, {"nz", double(g.nz)}},
+              {{"time", s_.time},
+               {"step", double(s_.step)},
+               {"nx", double(g.nx)},
+               {"ny", double(g.ny)},
+               {"nz", double(g.nz)}},
               arrays);
   commit_file(s_.decomposition(), path + ".tmp", path);
 }

@@ -33,8 +33,8 @@ std::vector<Sphere> seed_spheres(const Config& c) {
   if (p.placement == "centre") return {{lx / 2, 0, lz / 2}};
   auto fail = [&](const std::string& why) {
     std::ostringstream s;
-    s << "cannot place " << n << " spheres of radius " << r << " with gap " << p.min_gap << " in the "
-      << lx << " x " << c.grid.ly << " x " << lz << " box (volume fraction "
+    s << "cannot place " << n << " spheres of radius " << r << " with gap " << p.min_gap << " in the " << lx
+      << " x " << c.grid.ly << " x " << lz << " box (volume fraction "
       << n * 4.0 / 3.0 * M_PI * r * r * r / (lx * c.grid.ly * lz) << "): " << why;
     throw InputError(s.str());
   };

@@ -62,24 +62,25 @@ void ParticleTracker::update() {
   auto mom = moments_;
   const Real r = s_.config().particles.radius, lx = g.lx, lz = g.lz;
   const Real cut2 = 4 * r * r;
-  par_for("tracker_moments", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    const Real f = fraction(phi(i, j, k));
-    if (f <= 0) return;
-    const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
-    int best = -1;
-    Real bd = cut2, bx = 0, by = 0, bz = 0;
-    for (int m = 0; m < n; ++m) {
-      Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
-      dx -= lx * Kokkos::round(dx / lx);
-      dz -= lz * Kokkos::round(dz / lz);
-      const Real d2 = dx * dx + dy * dy + dz * dz;
-      if (d2 < bd) bd = d2, best = m, bx = dx, by = dy, bz = dz;
-    }
-    if (best < 0) return;
-    const Real mv[10] = {f, f * bx, f * by, f * bz, f * bx * bx, f * bx * by, f * bx * bz,
-                         f * by * by, f * by * bz, f * bz * bz};
-    for (int q = 0; q < 10; ++q) Kokkos::atomic_add(&mom(best, q), mv[q]);
-  });
+  par_for(
+      "tracker_moments", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const Real f = fraction(phi(i, j, k));
+        if (f <= 0) return;
+        const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
+        int best = -1;
+        Real bd = cut2, bx = 0, by = 0, bz = 0;
+        for (int m = 0; m < n; ++m) {
+          Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
+          dx -= lx * Kokkos::round(dx / lx);
+          dz -= lz * Kokkos::round(dz / lz);
+          const Real d2 = dx * dx + dy * dy + dz * dz;
+          if (d2 < bd) bd = d2, best = m, bx = dx, by = dy, bz = dz;
+        }
+        if (best < 0) return;
+        const Real mv[10] = {f,           f * bx,      f * by,      f * bz,      f * bx * bx,
+                             f * bx * by, f * bx * bz, f * by * by, f * by * bz, f * bz * bz};
+        for (int q = 0; q < 10; ++q) Kokkos::atomic_add(&mom(best, q), mv[q]);
+      });
   auto mh = Kokkos::create_mirror_view(moments_);
   Kokkos::deep_copy(mh, moments_);
   std::vector<double> buf(mh.data(), mh.data() + 10 * n);

@@ -24,41 +24,51 @@ std::string hms(double s) {
   return b;
 }
 
-void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r,
-                   const std::string& dir, const nlohmann::json& averages, size_t particle_count) {
+void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r, const std::string& dir,
+                   const nlohmann::json& averages, size_t particle_count) {
   if (!s.decomposition().is_root()) return;
   const Config& c = s.config();
   nlohmann::json j;
-  j["code"] = {{"name", "softflow"}, {"version", version()},
-               {"kokkos_execution_space", ExecSpace::name()}};
-  j["case"] = {{"name", c.case_name}, {"resolved_input", c.source_text},
+  j["code"] = {{"name", "softflow"}, {"version", version()}, {"kokkos_execution_space", ExecSpace::name()}};
+  j["case"] = {{"name", c.case_name},
+               {"resolved_input", c.source_text},
                {"grid", {c.grid.nx, c.grid.ny, c.grid.nz}},
                {"box", {c.grid.lx, c.grid.ly, c.grid.lz}},
-               {"rho", c.fluid.rho}, {"mu_f", c.fluid.mu}, {"wall_velocity", c.walls.velocity},
+               {"rho", c.fluid.rho},
+               {"mu_f", c.fluid.mu},
+               {"wall_velocity", c.walls.velocity},
                {"shear_rate", c.shear_rate()},
                {"reynolds_h", c.fluid.rho * c.walls.velocity * c.h() / c.fluid.mu}};
-  j["parallel"] = {{"ranks", s.decomposition().size}, {"px", c.parallel.px}, {"pz", c.parallel.pz},
+  j["parallel"] = {{"ranks", s.decomposition().size},
+                   {"px", c.parallel.px},
+                   {"pz", c.parallel.pz},
                    {"threads_per_rank", ExecSpace().concurrency()}};
-  j["final"] = {{"step", s.step}, {"time", s.time}, {"strain", s.time * c.shear_rate()},
-                {"kinetic_energy", f.kinetic_energy}, {"max_div", f.max_div},
-                {"tau_bottom", f.tau_bottom}, {"tau_top", f.tau_top}, {"mu_eff", f.mu_eff},
-                {"n1", f.n1}, {"n2", f.n2}};
+  j["final"] = {{"step", s.step},
+                {"time", s.time},
+                {"strain", s.time * c.shear_rate()},
+                {"kinetic_energy", f.kinetic_energy},
+                {"max_div", f.max_div},
+                {"tau_bottom", f.tau_bottom},
+                {"tau_top", f.tau_top},
+                {"mu_eff", f.mu_eff},
+                {"n1", f.n1},
+                {"n2", f.n2}};
   j["averages"] = averages;
   if (s.solid()) {
-    j["case"]["particles"] = {{"count", particle_count},
-                              {"volume_fraction", f.solid_volume / (c.grid.lx * c.grid.ly * c.grid.lz)},
-                              {"radius", c.particles.radius},
-                              {"capillary", c.particles.capillary > 0 ? c.particles.capillary
-                                                                      : c.fluid.mu * c.shear_rate() / c.shear_modulus()},
-                              {"shear_modulus", c.shear_modulus()},
-                              {"viscosity_ratio", c.particles.viscosity_ratio}};
+    j["case"]["particles"] = {
+        {"count", particle_count},
+        {"volume_fraction", f.solid_volume / (c.grid.lx * c.grid.ly * c.grid.lz)},
+        {"radius", c.particles.radius},
+        {"capillary",
+         c.particles.capillary > 0 ? c.particles.capillary : c.fluid.mu * c.shear_rate() / c.shear_modulus()},
+        {"shear_modulus", c.shear_modulus()},
+        {"viscosity_ratio", c.particles.viscosity_ratio}};
     j["final"]["solid_volume"] = f.solid_volume;
     j["final"]["phi_range"] = {f.phi_min, f.phi_max};
     j["final"]["detb_range"] = {f.detb_min, f.detb_max};
   }
   const double cs = double(s.grid().cells_global()) * r.steps / std::max(r.wall_seconds, 1e-30);
-  j["performance"] = {{"steps", r.steps}, {"wall_seconds", r.wall_seconds},
-                      {"cell_steps_per_second", cs}};
+  j["performance"] = {{"steps", r.steps}, {"wall_seconds", r.wall_seconds}, {"cell_steps_per_second", cs}};
   const std::string path = dir + "/summary.json";
   {
     std::ofstream o(path + ".tmp");
@@ -94,7 +104,9 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
     tracker = std::make_unique<ParticleTracker>(solver, start);
   }
   const std::vector<ParticleShape> no_particles;
-  auto particles = [&]() -> const std::vector<ParticleShape>& { return tracker ? tracker->shapes() : no_particles; };
+  auto particles = [&]() -> const std::vector<ParticleShape>& {
+    return tracker ? tracker->shapes() : no_particles;
+  };
   auto series_rows = [&](const FlowScalars& f, Real dt) {
     out.series_row(f, dt);
     if (tracker) {
@@ -111,10 +123,10 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
 
   if (root) {
     const Grid& g = solver.grid();
-    log << "softflow " << version() << ": case '" << cfg.case_name << "', grid " << g.nx
-        << " x " << g.ny << " x " << g.nz << ", " << solver.decomposition().size << " rank(s) ("
-        << cfg.parallel.px << " x " << cfg.parallel.pz << "), " << ExecSpace::name() << " with "
-        << ExecSpace().concurrency() << " thread(s) per rank\n"
+    log << "softflow " << version() << ": case '" << cfg.case_name << "', grid " << g.nx << " x " << g.ny
+        << " x " << g.nz << ", " << solver.decomposition().size << " rank(s) (" << cfg.parallel.px << " x "
+        << cfg.parallel.pz << "), " << ExecSpace::name() << " with " << ExecSpace().concurrency()
+        << " thread(s) per rank\n"
         << (restarted ? "restarted from " + cfg.restart + " at step " + std::to_string(solver.step)
                       : std::string("initial state: ") + cfg.initial.type)
         << ", end time " << t_end << " (strain " << t_end * gamma << ")\n";
@@ -179,8 +191,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
   write_summary(solver, f, res, oc.dir, run_averages(solver, out), particles().size());
   if (root) {
     log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
-        << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff
-        << ", output in " << oc.dir << "/\n";
+        << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff << ", output in "
+        << oc.dir << "/\n";
   }
   return res;
 }

@@ -137,9 +137,10 @@ nlohmann::json run_averages(const FlowSolver& s, Output& out) {
     std::vector<std::string> names = {"u_mean", "phi_mean"};
     for (int b = 0; b < n_budget; ++b) names.push_back(budget_name(b));
     std::ostringstream o;
-    o << std::setprecision(8)
-      << "# time averages from strain " << from << "; u over V_w, stresses over mu_f gamma; "
-      << "rows 0..ny-1 cell centres (y_centre), budget on the faces below them (y_face; the last row the top wall)\n"
+    o << std::setprecision(8) << "# time averages from strain " << from
+      << "; u over V_w, stresses over mu_f gamma; "
+      << "rows 0..ny-1 cell centres (y_centre), budget on the faces below them (y_face; the last row the top "
+         "wall)\n"
       << "row,y_centre,y_face";
     for (const auto& n : names) o << "," << n << "," << n << "_stderr";
     o << "\n";

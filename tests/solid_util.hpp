@@ -11,11 +11,12 @@ template <class F>
 void set_velocity(FlowSolver& s, const F& f, double t) {
   const Grid g = s.grid();
   auto u = s.state().u, v = s.state().v, w = s.state().w;
-  par_for("test_set_velocity", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
-    u(i, j, k) = f(g.xf(i), g.yc(j), g.zc(k), t).u;
-    v(i, j, k) = f(g.xc(i), g.yf(j), g.zc(k), t).v;
-    w(i, j, k) = f(g.xc(i), g.yc(j), g.zf(k), t).w;
-  });
+  par_for(
+      "test_set_velocity", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+        u(i, j, k) = f(g.xf(i), g.yc(j), g.zc(k), t).u;
+        v(i, j, k) = f(g.xc(i), g.yf(j), g.zc(k), t).v;
+        w(i, j, k) = f(g.xc(i), g.yc(j), g.zf(k), t).w;
+      });
 }
 
 struct Vec3 {
@@ -37,8 +38,8 @@ void transport_step(FlowSolver& s, const F& f, double dt) {
 
 // Particle keys for a case with walls at rest (G given directly)
 inline std::vector<std::string> solid_keys(std::vector<std::string> extra = {}) {
-  std::vector<std::string> o = {"particles.radius=0.3", "particles.count=1",
-                                "particles.placement=centre", "particles.shear_modulus=1.0"};
+  std::vector<std::string> o = {"particles.radius=0.3", "particles.count=1", "particles.placement=centre",
+                                "particles.shear_modulus=1.0"};
   o.insert(o.end(), extra.begin(), extra.end());
   return o;
 }
@@ -49,7 +50,9 @@ double max_error(const Grid& g, const Field3& a, const F& f) {
   double m = 0;
   par_reduce(
       "test_max_error", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, double& x) { x = Kokkos::fmax(x, Kokkos::fabs(a(i, j, k) - f(i, j, k))); },
+      KOKKOS_LAMBDA(int i, int j, int k, double& x) {
+        x = Kokkos::fmax(x, Kokkos::fabs(a(i, j, k) - f(i, j, k)));
+      },
       Kokkos::Max<double>(m));
   return global_max(m);
 }

@@ -21,7 +21,8 @@ using namespace softflow::test;
 namespace {
 void fill_with_solid(FlowSolver& s) {
   const Field3 phi = s.solid()->fields().q[0];
-  par_for("test_fill_solid", s.grid().all(), KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = 1; });
+  par_for(
+      "test_fill_solid", s.grid().all(), KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = 1; });
   s.solid()->fill_ghosts();
   s.solid()->init_force();
 }
@@ -29,10 +30,10 @@ void fill_with_solid(FlowSolver& s) {
 
 TEST(Budget, UniformlyShearedSolidHasTheExactStresses) {
   const double G = 3, K = 2, mu = 1, gamma = 1, t_end = 0.7;
-  Config c = couette_case(6, 16, 6,
-                          {"grid.lx=1.5", "grid.lz=1.5", "particles.shape=layer", "particles.layer_thickness=1.0",
-                           "particles.shear_modulus=3.0", "particles.viscosity_ratio=2.0",
-                           "initial.type=\"couette\""});
+  Config c = couette_case(
+      6, 16, 6,
+      {"grid.lx=1.5", "grid.lz=1.5", "particles.shape=layer", "particles.layer_thickness=1.0",
+       "particles.shear_modulus=3.0", "particles.viscosity_ratio=2.0", "initial.type=\"couette\""});
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   fill_with_solid(s);
@@ -49,8 +50,10 @@ TEST(Budget, UniformlyShearedSolidHasTheExactStresses) {
     worst = std::max(worst, std::abs(p.budget[fluid_reynolds][r]) + std::abs(p.budget[particle_reynolds][r]));
   }
   if (world_rank() == 0)
-    std::printf("  budget profiles off by <= %.1e; N1 = %.12f (exact %.12f), N2 = %.1e, mu_eff = %.12f (exact %.12f)\n",
-                worst, f.n1, G * kappa * kappa / unit, f.n2, f.mu_eff, (K * mu + G * kappa) / unit);
+    std::printf(
+        "  budget profiles off by <= %.1e; N1 = %.12f (exact %.12f), N2 = %.1e, mu_eff = %.12f (exact "
+        "%.12f)\n",
+        worst, f.n1, G * kappa * kappa / unit, f.n2, f.mu_eff, (K * mu + G * kappa) / unit);
   EXPECT_LT(worst, 1e-10);
   EXPECT_NEAR(f.n1, G * kappa * kappa / unit, 1e-10);
   EXPECT_NEAR(f.n2, 0.0, 1e-10);
@@ -61,10 +64,10 @@ TEST(Budget, UniformlyShearedSolidHasTheExactStresses) {
 
 TEST(Budget, SteadyFluidSolidSandwich) {
   const double mu = 1, V = 1, h = 1, a = 0.5;
-  Config c = couette_case(6, 32, 6,
-                          {"grid.lx=1.5", "grid.lz=1.5", "particles.shape=layer", "particles.layer_thickness=1.0",
-                           "particles.shear_modulus=4.0", "particles.viscosity_ratio=1.0",
-                           "time.viscous=\"implicit\""});
+  Config c = couette_case(
+      6, 32, 6,
+      {"grid.lx=1.5", "grid.lz=1.5", "particles.shape=layer", "particles.layer_thickness=1.0",
+       "particles.shear_modulus=4.0", "particles.viscosity_ratio=1.0", "time.viscous=\"implicit\""});
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   run_to(s, 15.0);  // the slowest elastic-viscous mode decays like exp(-t / ~1.5)
@@ -78,13 +81,16 @@ TEST(Budget, SteadyFluidSolidSandwich) {
     for (int b = 0; b < n_budget; ++b) total += p.budget[b][r];
     worst_total = std::max(worst_total, std::abs(total / tau - 1));
     const double y = std::abs(p.y_face[r]);
-    if (y > a + 2 * s.grid().dy) worst_fluid = std::max(worst_fluid, std::abs(p.budget[fluid_viscous][r] / tau - 1));
-    if (y < a - 2 * s.grid().dy) worst_solid = std::max(worst_solid, std::abs(p.budget[particle_elastic][r] / tau - 1));
+    if (y > a + 2 * s.grid().dy)
+      worst_fluid = std::max(worst_fluid, std::abs(p.budget[fluid_viscous][r] / tau - 1));
+    if (y < a - 2 * s.grid().dy)
+      worst_solid = std::max(worst_solid, std::abs(p.budget[particle_elastic][r] / tau - 1));
   }
   if (world_rank() == 0)
-    std::printf("  |total / tau_wall - 1| <= %.1e; fluid layers %.1e, solid layer (elastic) %.1e; "
-                "mu_eff %.4f (sharp interface %.4f); N2 = %.1e\n",
-                worst_total, worst_fluid, worst_solid, f.mu_eff, tau_sharp / (mu * V / h), f.n2);
+    std::printf(
+        "  |total / tau_wall - 1| <= %.1e; fluid layers %.1e, solid layer (elastic) %.1e; "
+        "mu_eff %.4f (sharp interface %.4f); N2 = %.1e\n",
+        worst_total, worst_fluid, worst_solid, f.mu_eff, tau_sharp / (mu * V / h), f.n2);
   // the momentum balance: uniform total shear stress (measured 2e-5 at t = 15)
   EXPECT_LT(worst_total, 1e-3);
   // away from the interface cells the fluid layers carry it alone. In the

@@ -51,8 +51,8 @@ TEST(Config, GoodCaseParsesWithDefaults) {
 }
 
 TEST(Config, OverridesSetKeys) {
-  Config c = parse_config(good, "case", {"grid.nx=32", "output.dir=elsewhere", "initial.type=couette",
-                                         "time.cfl=0.5"});
+  Config c = parse_config(good, "case",
+                          {"grid.nx=32", "output.dir=elsewhere", "initial.type=couette", "time.cfl=0.5"});
   EXPECT_EQ(c.grid.nx, 32);
   EXPECT_EQ(c.output.dir, "elsewhere");
   EXPECT_EQ(c.initial.type, "couette");

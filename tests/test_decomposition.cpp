@@ -62,7 +62,8 @@ TEST_P(RankGrids, SameFieldsOnEveryRankGrid) {
       worst = std::max(worst, block_diff(par, a.*f, b.*f));
     worst = global_max(worst);
     if (world_rank() == 0)
-      std::printf("  %s viscosity, %d x %d ranks: max difference to 1 rank %.3e\n", scheme.c_str(), px, pz, worst);
+      std::printf("  %s viscosity, %d x %d ranks: max difference to 1 rank %.3e\n", scheme.c_str(), px, pz,
+                  worst);
     EXPECT_LT(worst, 1e-12) << px << " x " << pz;
   }
 }
@@ -95,8 +96,8 @@ TEST_P(RankGrids, SameSuspensionOnEveryRankGrid) {
       worst = std::max(worst, block_diff(par, par.solid()->fields().q[m], serial.solid()->fields().q[m]));
     worst = global_max(worst);
     if (world_rank() == 0)
-      std::printf("  suspension, %s viscosity, %d x %d ranks: max difference to 1 rank %.3e\n", scheme.c_str(), px, pz,
-                  worst);
+      std::printf("  suspension, %s viscosity, %d x %d ranks: max difference to 1 rank %.3e\n",
+                  scheme.c_str(), px, pz, worst);
     EXPECT_LT(worst, 1e-12) << px << " x " << pz;
   }
 }

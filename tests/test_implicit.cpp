@@ -35,7 +35,8 @@ double split_amplification(double z, double r, bool rk_weights) {
 
 double worst_amplification(double r, bool rk_weights) {
   double worst = 0;
-  for (int n = 0; n <= 900; ++n) worst = std::max(worst, split_amplification(std::pow(10.0, -3 + n / 100.0), r, rk_weights));
+  for (int n = 0; n <= 900; ++n)
+    worst = std::max(worst, split_amplification(std::pow(10.0, -3 + n / 100.0), r, rk_weights));
   return worst;
 }
 
@@ -50,10 +51,11 @@ KOKKOS_INLINE_FUNCTION double hash01(long n) {
 
 void random_pencil(const Grid& g, const Array1& r, int salt) {
   const int ng = Grid::ng, ny = g.ny, nxl = g.nxl, nx = g.nx, x0 = g.x0, z0 = g.z0;
-  par_for("test_random_pencil", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    const long gid = (x0 + i - ng) + long(nx) * ((j - ng) + long(ny) * (z0 + k - ng));
-    r(PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl)) = hash01(gid * 3 + salt);
-  });
+  par_for(
+      "test_random_pencil", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const long gid = (x0 + i - ng) + long(nx) * ((j - ng) + long(ny) * (z0 + k - ng));
+        r(PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl)) = hash01(gid * 3 + salt);
+      });
 }
 
 // max |x - beta L x - r| of one component (its ghosts set by the walls)
@@ -65,7 +67,8 @@ double helmholtz_residual(const Grid& g, const Field3& x, const Array1& r, Real 
       "test_helmholtz_residual", g.interior(),
       KOKKOS_LAMBDA(int i, int j, int k, double& e) {
         if (face && j == vtop) return;
-        const double d = x(i, j, k) - beta * op.lap(x, i, j, k) - r(PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl));
+        const double d =
+            x(i, j, k) - beta * op.lap(x, i, j, k) - r(PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl));
         e = Kokkos::fmax(e, Kokkos::fabs(d));
       },
       Kokkos::Max<double>(m));
@@ -125,10 +128,11 @@ TEST(ImplicitViscous, SplitIsStableForEveryViscosityUpToTheImplicitOne) {
   for (double r : {0.1, 0.3, 0.5}) EXPECT_GT(worst_amplification(r, true), 2.0) << "nu / nu0 = " << r;
   EXPECT_LE(worst_amplification(0.9, true), 1 + 1e-12);
   if (world_rank() == 0)
-    std::printf("  max |A| over dt: alpha-weighted remainder %.4f (r=0.1) %.4f (r=0.5); "
-                "RK-weighted %.3f (r=0.1) %.3f (r=0.5)\n",
-                worst_amplification(0.1, false), worst_amplification(0.5, false),
-                worst_amplification(0.1, true), worst_amplification(0.5, true));
+    std::printf(
+        "  max |A| over dt: alpha-weighted remainder %.4f (r=0.1) %.4f (r=0.5); "
+        "RK-weighted %.3f (r=0.1) %.3f (r=0.5)\n",
+        worst_amplification(0.1, false), worst_amplification(0.5, false), worst_amplification(0.1, true),
+        worst_amplification(0.5, true));
 }
 
 TEST(ImplicitViscous, HelmholtzSolvesReachRoundOff) {

@@ -15,8 +15,7 @@ namespace {
 Manufactured sample_mms() {
   Manufactured m;
   m.enabled = true;
-  m.amp = 0.7, m.omega = 1.3, m.a = 2 * M_PI / 2.1, m.c = 2 * M_PI / 1.7, m.h = 0.8, m.vw = 0.9,
-  m.nu = 0.37;
+  m.amp = 0.7, m.omega = 1.3, m.a = 2 * M_PI / 2.1, m.c = 2 * M_PI / 1.7, m.h = 0.8, m.vw = 0.9, m.nu = 0.37;
   return m;
 }
 
@@ -57,7 +56,9 @@ TEST(Manufactured, FieldsAreDivergenceFreeAndForcingMatchesFiniteDifferences) {
     const double x = 3 * U(gen), y = m.h * U(gen), z = 3 * U(gen), t = 2 + U(gen);
     auto q = m.eval(x, y, z, t);
     EXPECT_NEAR(q.ux + q.vy + q.wz, 0, 1e-12);
-    auto P = [&](double dx, double dy, double dz, double dt) { return m.eval(x + dx, y + dy, z + dz, t + dt); };
+    auto P = [&](double dx, double dy, double dz, double dt) {
+      return m.eval(x + dx, y + dy, z + dz, t + dt);
+    };
     // first derivatives by central differences (error ~ e^2)
     auto fd = [&](auto get, int dir) {
       double d[4] = {0, 0, 0, 0};
@@ -108,8 +109,8 @@ TEST(Manufactured, FieldsAreDivergenceFreeAndForcingMatchesFiniteDifferences) {
     EXPECT_NEAR(q.px, (p(x + e, y, z) - p(x - e, y, z)) / (2 * e), tol);
     EXPECT_NEAR(q.py, (p(x, y + e, z) - p(x, y - e, z)) / (2 * e), tol);
     EXPECT_NEAR(q.pz, (p(x, y, z + e) - p(x, y, z - e)) / (2 * e), tol);
-    EXPECT_NEAR(m.force(0, x, y, z, t),
-                q.ut + q.u * q.ux + q.v * q.uy + q.w * q.uz - m.nu * q.lu + q.px, 1e-12);
+    EXPECT_NEAR(m.force(0, x, y, z, t), q.ut + q.u * q.ux + q.v * q.uy + q.w * q.uz - m.nu * q.lu + q.px,
+                1e-12);
   }
   // the walls: no slip and no penetration
   for (double y : {-m.h, m.h}) {
@@ -136,7 +137,8 @@ double space_order(const std::string& scheme) {
     run_to(s, t_end, 0.2 * s.grid().dy);
     hs.push_back(s.grid().dy);
     errs.push_back(error_vs_exact(s));
-    if (world_rank() == 0) std::printf("  %s, n = %3d  max error %.3e (%ld steps)\n", scheme.c_str(), n, errs.back(), s.step);
+    if (world_rank() == 0)
+      std::printf("  %s, n = %3d  max error %.3e (%ld steps)\n", scheme.c_str(), n, errs.back(), s.step);
   }
   const double q = std::log(errs[1] / errs[2]) / std::log(hs[1] / hs[2]);
   if (world_rank() == 0)
@@ -166,7 +168,8 @@ double time_order(const std::string& scheme) {
     e = global_max(e);
     dts.push_back(t_end / steps);
     errs.push_back(e);
-    if (world_rank() == 0) std::printf("  %s, dt = %.4f  difference to dt/16: %.3e\n", scheme.c_str(), dts.back(), e);
+    if (world_rank() == 0)
+      std::printf("  %s, dt = %.4f  difference to dt/16: %.3e\n", scheme.c_str(), dts.back(), e);
   }
   const double q = order(dts, errs);
   if (world_rank() == 0) std::printf("  observed order in time: %.3f\n", q);

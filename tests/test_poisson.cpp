@@ -33,18 +33,19 @@ double laplacian_residual(const Grid& g, const Field3& p, const Field3& rhs) {
 void random_field(const Grid& g, const Field3& f, int seed) {
   const int x0 = g.x0, z0 = g.z0, nx = g.nx, ny = g.ny;
   // a reproducible, decomposition-independent pseudo-random value per global cell
-  par_for("test_random", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    unsigned long long s = (unsigned long long)(x0 + i - Grid::ng) +
-                           nx * ((unsigned long long)(j - Grid::ng) +
-                                 ny * (unsigned long long)(z0 + k - Grid::ng)) +
-                           1315423911ull * seed;
-    s ^= s >> 33;
-    s *= 0xff51afd7ed558ccdULL;
-    s ^= s >> 33;
-    s *= 0xc4ceb9fe1a85ec53ULL;
-    s ^= s >> 33;
-    f(i, j, k) = double(s >> 11) / double(1ull << 53) - 0.5;
-  });
+  par_for(
+      "test_random", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        unsigned long long s =
+            (unsigned long long)(x0 + i - Grid::ng) +
+            nx * ((unsigned long long)(j - Grid::ng) + ny * (unsigned long long)(z0 + k - Grid::ng)) +
+            1315423911ull * seed;
+        s ^= s >> 33;
+        s *= 0xff51afd7ed558ccdULL;
+        s ^= s >> 33;
+        s *= 0xc4ceb9fe1a85ec53ULL;
+        s ^= s >> 33;
+        f(i, j, k) = double(s >> 11) / double(1ull << 53) - 0.5;
+      });
 }
 
 }  // namespace
@@ -76,9 +77,10 @@ TEST_P(PoissonTest, InvertsDiscreteLaplacianOfRandomData) {
 
   auto y = s.poisson().rhs();
   const int ng = Grid::ng, gny = g.ny, nxl = g.nxl;
-  par_for("test_fill", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    y(PoissonSolver::index(i - ng, j - ng, k - ng, gny, nxl)) = rhs(i, j, k);
-  });
+  par_for(
+      "test_fill", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        y(PoissonSolver::index(i - ng, j - ng, k - ng, gny, nxl)) = rhs(i, j, k);
+      });
   s.poisson().solve();
   poisson_to_field(g, y, s.state().p);
   s.fill_pressure_ghosts();

@@ -15,9 +15,10 @@ using namespace softflow::test;
 namespace {
 
 Config restart_case(const std::string& dir, std::vector<std::string> extra = {}) {
-  std::vector<std::string> o = {"initial.type=manufactured", "fluid.mu=0.05", "time.end_time=0.5", "time.dt_max=0.01",
-                                "output.dir=" + dir, "output.series_every=5",
-                                "output.progress_every=0", "output.checkpoint_every=0"};
+  std::vector<std::string> o = {"initial.type=manufactured", "fluid.mu=0.05",
+                                "time.end_time=0.5",         "time.dt_max=0.01",
+                                "output.dir=" + dir,         "output.series_every=5",
+                                "output.progress_every=0",   "output.checkpoint_every=0"};
   o.insert(o.end(), extra.begin(), extra.end());
   return couette_case(12, 12, 12, o);
 }

@@ -14,9 +14,14 @@ using namespace softflow::test;
 
 namespace {
 Config suspension(const std::string& dir, std::vector<std::string> extra = {}) {
-  std::vector<std::string> o = {"output.dir=\"" + dir + "\"", "output.progress_every=0",
-                                "output.series_every=5", "output.fields_every=0", "output.profiles_every=3",
-                                "grid.nx=16", "grid.ny=12", "grid.nz=16"};
+  std::vector<std::string> o = {"output.dir=\"" + dir + "\"",
+                                "output.progress_every=0",
+                                "output.series_every=5",
+                                "output.fields_every=0",
+                                "output.profiles_every=3",
+                                "grid.nx=16",
+                                "grid.ny=12",
+                                "grid.nz=16"};
   o.insert(o.end(), extra.begin(), extra.end());
   Config c = load_config(std::string(SOFTFLOW_SOURCE_DIR) + "/cases/hard/phi033_ca2.toml", o);
   resolve_rank_grid(c, world_size());

@@ -48,18 +48,19 @@ struct Sandwich {
 // max error of the plane-averaged u over y, at four phases of the fifth period
 double sandwich_error(int ny, const std::string& scheme) {
   const Sandwich ex;
-  Config c = couette_case(4, ny, 4,
-                          {"grid.lx=1.0", "grid.lz=1.0", "walls.velocity=1.0",
-                           "walls.omega=" + std::to_string(ex.omega), "particles.shape=layer",
-                           "particles.layer_thickness=1.0", "particles.shear_modulus=4.0",
-                           "particles.viscosity_ratio=1.0", "time.viscous=\"" + scheme + "\""});
+  Config c = couette_case(
+      4, ny, 4,
+      {"grid.lx=1.0", "grid.lz=1.0", "walls.velocity=1.0", "walls.omega=" + std::to_string(ex.omega),
+       "particles.shape=layer", "particles.layer_thickness=1.0", "particles.shear_modulus=4.0",
+       "particles.viscosity_ratio=1.0", "time.viscous=\"" + scheme + "\""});
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   double e = 0;
   for (double t : {4.0, 4.25, 4.5, 4.75}) {
     run_to(s, t);
     FlowProfiles p = Diagnostics(s).profiles();
-    for (size_t j = 0; j < p.y_centre.size(); ++j) e = std::max(e, std::abs(p.u_mean[j] - ex.u(p.y_centre[j], t)));
+    for (size_t j = 0; j < p.y_centre.size(); ++j)
+      e = std::max(e, std::abs(p.u_mean[j] - ex.u(p.y_centre[j], t)));
   }
   return e;
 }
@@ -69,8 +70,8 @@ double sandwich_error(int ny, const std::string& scheme) {
 TEST(Sandwich, ExactSolutionIsConsistent) {
   const Sandwich ex;
   const double t = 0.3, d = 1e-6;
-  EXPECT_NEAR(ex.u(1.0, t), std::cos(ex.omega * t), 1e-12);       // the wall
-  EXPECT_NEAR(ex.u(0.0, t), 0.0, 1e-14);                           // the symmetry plane
+  EXPECT_NEAR(ex.u(1.0, t), std::cos(ex.omega * t), 1e-12);         // the wall
+  EXPECT_NEAR(ex.u(0.0, t), 0.0, 1e-14);                            // the symmetry plane
   EXPECT_NEAR(ex.u(ex.a - 1e-12, t), ex.u(ex.a + 1e-12, t), 1e-9);  // continuity at the interface
   // the fluid obeys u_t = nu u_yy at y = 0.75
   const double y = 0.75;
@@ -86,7 +87,8 @@ TEST_P(SandwichScheme, MatchesTheExactPeriodicSolutionAndConverges) {
   for (int ny : {32, 64}) {
     errs.push_back(sandwich_error(ny, GetParam()));
     hs.push_back(2.0 / ny);
-    if (world_rank() == 0) std::printf("  %s, ny = %d  max |u - u_exact| / V = %.3e\n", GetParam(), ny, errs.back());
+    if (world_rank() == 0)
+      std::printf("  %s, ny = %d  max |u - u_exact| / V = %.3e\n", GetParam(), ny, errs.back());
   }
   const double q = std::log(errs[0] / errs[1]) / std::log(2.0);
   if (world_rank() == 0) std::printf("  observed order %.2f\n", q);

@@ -13,18 +13,18 @@ using namespace softflow::test;
 
 TEST(Seeding, VolumeFractionIsExactToOnePartInAThousand) {
   for (int ppr : {4, 8}) {  // points per radius
-    Config c = couette_case(8 * ppr, 5 * ppr, 8 * ppr,
-                            {"grid.lx=8.0", "grid.ly=5.0", "grid.lz=8.0", "walls.velocity=2.5",
-                             "particles.radius=1.0", "particles.volume_fraction=0.2",
-                             "particles.capillary=0.1", "particles.seed=7"});
+    Config c = couette_case(
+        8 * ppr, 5 * ppr, 8 * ppr,
+        {"grid.lx=8.0", "grid.ly=5.0", "grid.lz=8.0", "walls.velocity=2.5", "particles.radius=1.0",
+         "particles.volume_fraction=0.2", "particles.capillary=0.1", "particles.seed=7"});
     FlowSolver s(c, MPI_COMM_WORLD);
     s.initialize();
     const int n = int(s.solid()->spheres().size());
     const double exact = n * 4.0 / 3.0 * M_PI;
     FlowScalars f = Diagnostics(s).scalars();
     if (world_rank() == 0)
-      std::printf("  %d points per radius: %d spheres, phi volume %.6f, exact %.6f\n", ppr, n,
-                  f.solid_volume, exact);
+      std::printf("  %d points per radius: %d spheres, phi volume %.6f, exact %.6f\n", ppr, n, f.solid_volume,
+                  exact);
     EXPECT_NEAR(f.solid_volume / exact, 1.0, 1e-3);
     EXPECT_EQ(n, sphere_count(c));
     EXPECT_GE(f.phi_min, 0.0);
@@ -33,10 +33,10 @@ TEST(Seeding, VolumeFractionIsExactToOnePartInAThousand) {
 }
 
 TEST(Seeding, SpheresDoNotOverlapAndAvoidTheWalls) {
-  Config c = couette_case(16, 10, 16,
-                          {"grid.lx=16.0", "grid.ly=10.0", "grid.lz=16.0", "walls.velocity=5.0",
-                           "particles.radius=1.0", "particles.volume_fraction=0.33",
-                           "particles.capillary=0.02", "particles.min_gap=0.1"});
+  Config c = couette_case(
+      16, 10, 16,
+      {"grid.lx=16.0", "grid.ly=10.0", "grid.lz=16.0", "walls.velocity=5.0", "particles.radius=1.0",
+       "particles.volume_fraction=0.33", "particles.capillary=0.02", "particles.min_gap=0.1"});
   auto s = seed_spheres(c);
   EXPECT_EQ(int(s.size()), 202);
   double dmin = 1e9;
@@ -56,10 +56,10 @@ TEST(Seeding, SpheresDoNotOverlapAndAvoidTheWalls) {
 }
 
 TEST(Seeding, ImpossibleVolumeFractionIsRejected) {
-  Config c = couette_case(16, 10, 16,
-                          {"grid.lx=16.0", "grid.ly=10.0", "grid.lz=16.0", "walls.velocity=5.0",
-                           "particles.radius=1.0", "particles.volume_fraction=0.55",
-                           "particles.capillary=0.1"});
+  Config c =
+      couette_case(16, 10, 16,
+                   {"grid.lx=16.0", "grid.ly=10.0", "grid.lz=16.0", "walls.velocity=5.0",
+                    "particles.radius=1.0", "particles.volume_fraction=0.55", "particles.capillary=0.1"});
   try {
     seed_spheres(c);
     FAIL() << "Phi = 0.55 was packed";
@@ -69,8 +69,9 @@ TEST(Seeding, ImpossibleVolumeFractionIsRejected) {
 }
 
 TEST(Solid, ParticleAtRestStaysAtRestWithoutStress) {
-  Config c = couette_case(16, 16, 16, solid_keys({"walls.velocity=0.0", "grid.lx=2.0", "grid.lz=2.0",
-                                                  "particles.radius=0.5", "particles.viscosity_ratio=10.0"}));
+  Config c = couette_case(16, 16, 16,
+                          solid_keys({"walls.velocity=0.0", "grid.lx=2.0", "grid.lz=2.0",
+                                      "particles.radius=0.5", "particles.viscosity_ratio=10.0"}));
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   for (int n = 0; n < 10; ++n) s.advance(s.stable_dt());
@@ -94,26 +95,29 @@ namespace {
 // extended (KOKKOS_LAMBDA) lambdas in gtest's private TestBody.
 // phi of a cylinder along z of radius r about (x0, y0), 4 x 4 sub-samples per cell
 void fill_cylinder(const Grid& g, const Field3& phi, double r, double x0, double y0) {
-  par_for("test_sphere", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    int in = 0;
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) {
-        const double x = g.xc(i) + g.dx * ((a + 0.5) / 4 - 0.5) - x0, y = g.yc(j) + g.dy * ((b + 0.5) / 4 - 0.5) - y0;
-        in += x * x + y * y < r * r;  // a cylinder along z, the box is thin in z
-      }
-    phi(i, j, k) = in / 16.0;
-  });
+  par_for(
+      "test_sphere", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        int in = 0;
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4; ++b) {
+            const double x = g.xc(i) + g.dx * ((a + 0.5) / 4 - 0.5) - x0,
+                         y = g.yc(j) + g.dy * ((b + 0.5) / 4 - 0.5) - y0;
+            in += x * x + y * y < r * r;  // a cylinder along z, the box is thin in z
+          }
+        phi(i, j, k) = in / 16.0;
+      });
 }
 double constant_error(const Grid& g, const Field3& a, double value) {
-  return max_error(g, a, KOKKOS_LAMBDA(int, int, int) { return value; });
+  return max_error(
+      g, a, KOKKOS_LAMBDA(int, int, int) { return value; });
 }
 }  // namespace
 
 TEST(Solid, RigidRotationKeepsBIdentityAndMovesTheParticle) {
   // a sphere off the axis of a rigid rotation about z: B must stay I (no
   // spurious stress), det B = 1, and the centroid must turn with the flow
-  Config c = couette_case(32, 32, 8, solid_keys({"walls.velocity=0.0", "grid.lx=2.0", "grid.lz=0.5",
-                                                 "particles.radius=0.3"}));
+  Config c = couette_case(
+      32, 32, 8, solid_keys({"walls.velocity=0.0", "grid.lx=2.0", "grid.lz=0.5", "particles.radius=0.3"}));
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   // move the phi of the centred sphere 0.5 to the +x side by re-seeding with a shifted centre
@@ -143,7 +147,8 @@ TEST(Solid, RigidRotationKeepsBIdentityAndMovesTheParticle) {
   EXPECT_NEAR(f.detb_max, 1.0, 1e-12);
   tr.update();
   const auto& p = tr.shapes()[0];
-  if (world_rank() == 0) std::printf("  centroid after a quarter turn: (%.4f, %.4f), expected (1, 0.5)\n", p.x, p.y);
+  if (world_rank() == 0)
+    std::printf("  centroid after a quarter turn: (%.4f, %.4f), expected (1, 0.5)\n", p.x, p.y);
   EXPECT_NEAR(p.x, 1.0, 0.5 * g.dx);
   EXPECT_NEAR(p.y, 0.5, 0.5 * g.dy);
 }
@@ -167,18 +172,19 @@ namespace {
 // extended (KOKKOS_LAMBDA) lambdas in gtest's private TestBody.
 // phi of the sphere of radius 0.15 about (0.35, -0.15, 0.35), 4^3 sub-samples per cell
 void fill_leveque_sphere(const Grid& g, const Field3& phi) {
-  par_for("test_leveque_sphere", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-    int in = 0;
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        for (int e = 0; e < 4; ++e) {
-          const double x = g.xc(i) + g.dx * ((a + 0.5) / 4 - 0.5) - 0.35;
-          const double y = g.yc(j) + g.dy * ((b + 0.5) / 4 - 0.5) + 0.15;
-          const double z = g.zc(k) + g.dz * ((e + 0.5) / 4 - 0.5) - 0.35;
-          in += x * x + y * y + z * z < 0.15 * 0.15;
-        }
-    phi(i, j, k) = in / 64.0;
-  });
+  par_for(
+      "test_leveque_sphere", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        int in = 0;
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4; ++b)
+            for (int e = 0; e < 4; ++e) {
+              const double x = g.xc(i) + g.dx * ((a + 0.5) / 4 - 0.5) - 0.35;
+              const double y = g.yc(j) + g.dy * ((b + 0.5) / 4 - 0.5) + 0.15;
+              const double z = g.zc(k) + g.dz * ((e + 0.5) / 4 - 0.5) - 0.35;
+              in += x * x + y * y + z * z < 0.15 * 0.15;
+            }
+        phi(i, j, k) = in / 64.0;
+      });
 }
 // sum of |phi - phi0| over the local interior
 double local_l1_difference(const Grid& g, const Field3& phi, const Field3& phi0) {
@@ -195,8 +201,9 @@ TEST(Solid, LeVequeDeformationReturnsTheSphereAndConservesVolume) {
   const LeVeque flow{1.5};  // half the classic period: resolvable at 16^3 and 32^3
   std::vector<double> hs, errs;
   for (int n : {16, 32}) {
-    Config c = couette_case(n, n, n, solid_keys({"walls.velocity=0.0", "grid.lx=1.0", "grid.ly=1.0",
-                                                 "grid.lz=1.0", "particles.radius=0.15"}));
+    Config c = couette_case(n, n, n,
+                            solid_keys({"walls.velocity=0.0", "grid.lx=1.0", "grid.ly=1.0", "grid.lz=1.0",
+                                        "particles.radius=0.15"}));
     FlowSolver s(c, MPI_COMM_WORLD);
     s.initialize();
     const Grid g = s.grid();

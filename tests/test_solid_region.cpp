@@ -13,11 +13,11 @@ namespace {
 // One off-centre sphere in a sheared box: it translates with the flow and
 // deforms, so its region moves and grows; on 2 or 4 ranks it spans ranks.
 Config one_sphere(const std::string& scheme, double k) {
-  return couette_case(64, 16, 64,
-                      {"particles.radius=0.4", "particles.count=1", "particles.placement=\"random\"",
-                       "particles.seed=3", "particles.shear_modulus=2.0",
-                       "particles.viscosity_ratio=" + std::to_string(k), "initial.type=\"couette\"",
-                       "time.viscous=\"" + scheme + "\""});
+  return couette_case(
+      64, 16, 64,
+      {"particles.radius=0.4", "particles.count=1", "particles.placement=\"random\"", "particles.seed=3",
+       "particles.shear_modulus=2.0", "particles.viscosity_ratio=" + std::to_string(k),
+       "initial.type=\"couette\"", "time.viscous=\"" + scheme + "\""});
 }
 
 double worst_difference(FlowSolver& a, FlowSolver& b) {

@@ -16,7 +16,8 @@ class HardCase : public ::testing::TestWithParam<std::tuple<const char*, const c
 TEST_P(HardCase, ShortRunStaysFiniteBoundedAndConservative) {
   const auto [name, scheme] = GetParam();
   const std::string file = std::string(SOFTFLOW_SOURCE_DIR) + "/cases/hard/" + name + ".toml";
-  Config c = load_config(file, {"output.dir=\"stability-output\"", "time.viscous=\"" + std::string(scheme) + "\""});
+  Config c =
+      load_config(file, {"output.dir=\"stability-output\"", "time.viscous=\"" + std::string(scheme) + "\""});
   resolve_rank_grid(c, world_size());
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
@@ -36,10 +37,11 @@ TEST_P(HardCase, ShortRunStaysFiniteBoundedAndConservative) {
   }
   const FlowScalars f = d.scalars();
   if (world_rank() == 0)
-    std::printf("  %s, %s viscosity: %ld steps to strain %.3f, mu_eff %.3f, phi in [%g, %g], |det B - 1| <= %.2e, "
-                "volume drift %.1e\n",
-                name, scheme, s.step, s.time * c.shear_rate(), f.mu_eff, f.phi_min, f.phi_max, worst_detb,
-                f.solid_volume / f0.solid_volume - 1);
+    std::printf(
+        "  %s, %s viscosity: %ld steps to strain %.3f, mu_eff %.3f, phi in [%g, %g], |det B - 1| <= %.2e, "
+        "volume drift %.1e\n",
+        name, scheme, s.step, s.time * c.shear_rate(), f.mu_eff, f.phi_min, f.phi_max, worst_detb,
+        f.solid_volume / f0.solid_volume - 1);
   EXPECT_TRUE(std::isfinite(f.mu_eff));
   // phi is kept in [0, 1] exactly by the conservative redistribution
   EXPECT_GE(f.phi_min, 0.0);

@@ -28,9 +28,9 @@ using namespace softflow::test;
 namespace {
 double taylor_at(double ca) {
   Config c = couette_case(32, 24, 32,
-                          {"grid.lx=8.0", "grid.ly=6.0", "grid.lz=8.0", "walls.velocity=3.0",
-                           "fluid.mu=1.0", "particles.radius=1.0", "particles.count=1",
-                           "particles.placement=centre", "particles.capillary=" + std::to_string(ca)});
+                          {"grid.lx=8.0", "grid.ly=6.0", "grid.lz=8.0", "walls.velocity=3.0", "fluid.mu=1.0",
+                           "particles.radius=1.0", "particles.count=1", "particles.placement=centre",
+                           "particles.capillary=" + std::to_string(ca)});
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   ParticleTracker tr(s, ParticleTracker::from_spheres(s.solid()->spheres()));

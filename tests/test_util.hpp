@@ -31,7 +31,8 @@ inline Config couette_case(int nx, int ny, int nz, std::vector<std::string> over
                            int nranks = world_size()) {
   const std::string text = R"(
 [grid]
-nx = )" + std::to_string(nx) + "\nny = " + std::to_string(ny) + "\nnz = " + std::to_string(nz) + R"(
+nx = )" + std::to_string(nx) +
+                           "\nny = " + std::to_string(ny) + "\nnz = " + std::to_string(nz) + R"(
 lx = 6.283185307179586
 ly = 2.0
 lz = 6.283185307179586
@@ -102,8 +103,7 @@ inline long count_differing(const Grid& g, const Field3& a, const Field3& b) {
   long n = 0;
   par_reduce(
       "test_count_differing", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, long& c) { c += a(i, j, k) != b(i, j, k); },
-      Kokkos::Sum<long>(n));
+      KOKKOS_LAMBDA(int i, int j, int k, long& c) { c += a(i, j, k) != b(i, j, k); }, Kokkos::Sum<long>(n));
   return long(global_sum(double(n)));
 }
 
