@@ -19,6 +19,8 @@ ranks=${RANKS:-1}
 bin=${BIN:-build/perf/softflow-perf}
 scenes=${SCENES:-single particle dense}
 scripts/toolchain.sh setup >/dev/null
+# all cores unless told (the toolchain wrapper alone would default to 1 thread)
+export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(( $(nproc) / ranks > 0 ? $(nproc) / ranks : 1 ))}
 [ -x "$bin" ] || { echo "bench: $bin not built (cmake --build build)" >&2; exit 2; }
 
 case_of() {
