@@ -22,11 +22,22 @@ std::mutex& planner_mutex() {  // FFTW's planner is not thread-safe
   static std::mutex m;
   return m;
 }
+
+// With FFTW's OpenMP library the transforms of a plan are shared among the
+// threads Kokkos runs on (the many lines of a pencil split between them);
+// the same thread count always makes the same plan.
+void use_kokkos_threads() {
+#ifdef SOFTFLOW_FFTW_OMP
+  static const bool ready = fftw_init_threads() != 0;
+  if (ready) fftw_plan_with_nthreads(Kokkos::DefaultHostExecutionSpace().concurrency());
+#endif
+}
 }  // namespace
 
 LineFft::LineFft(int n, long howmany, Array1 data) : plans_(new Plans) {
   if (howmany <= 0) return;
   std::lock_guard<std::mutex> lock(planner_mutex());
+  use_kokkos_threads();
   fftw_r2r_kind f = FFTW_R2HC, b = FFTW_HC2R;
   int hm = int(howmany);
   plans_->fwd = fftw_plan_many_r2r(1, &n, hm, data.data(), nullptr, 1, n, data.data(), nullptr, 1, n, &f,
