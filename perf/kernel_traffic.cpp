@@ -59,9 +59,10 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       // thread do not stay in cache between the passes); the eigenvalue arrays
       // are negligible
       {"poisson_tridiagonal", {3, 3, "r: y, then cp,y; w: y,cp, then y (two passes)"}},
-      // src/transpose.cpp: the whole pencil array (nxl ny nzl Reals) per call;
-      // with one rank in the
-      // group only the pack label runs, as a direct permutation src -> dst
+      // src/transpose.cpp: the whole pencil array (nxl ny nzl Reals) per call for pack (which
+      // copies this rank's own block straight to its place); unpack moves (p - 1) / p of it,
+      // counted here as the whole (an upper bound). With one rank in the group only the pack
+      // label runs, as a direct permutation src -> dst
       {"transpose_pack_y_to_x", {1, 1, "r: y pencil; w: send buffer (x pencil)"}},
       {"transpose_unpack_y_to_x", {1, 1, "r: recv buffer; w: x pencil"}},
       {"transpose_pack_x_to_y", {1, 1, "r: x pencil; w: send buffer (y pencil)"}},

@@ -63,13 +63,17 @@ void for_block(const char* label, const PencilBlock& b, int p, const Body& body)
 
 // Moves one pencil orientation into another among the p ranks of `comm`:
 // element from(q, i, jj, k) of src goes to element to(q', i, jj, k) of dst on
-// peer q, where q' is this rank's place in comm. With p = 1 it is a local
-// permutation and MPI is skipped. Adds the bytes sent to other ranks to `sent`.
+// peer q, where q' = me is this rank's place in comm. With p = 1 it is a
+// local permutation and MPI is skipped; otherwise this rank's own block is
+// copied straight from src to dst inside the pack kernel and left out of the
+// all-to-all (counts of g.counts: 0 for me). Adds the bytes sent to other
+// ranks to `sent`.
 template <class From, class To>
 void move(const char* pack_label, const char* unpack_label, const Array1& src, const Array1& dst,
-          MpiBuffer& send, MpiBuffer& recv, MPI_Comm comm, int p, const PencilBlock& b, From from, To to,
+          MpiBuffer& send, MpiBuffer& recv, const TransposeGroup& g, const PencilBlock& b, From from, To to,
           size_t& sent) {
   Kokkos::Profiling::ScopedRegion region("transpose");
+  const int p = g.p, me = g.me;
   if (p == 1) {
     for_block(
         pack_label, b, 1,
@@ -78,21 +82,36 @@ void move(const char* pack_label, const char* unpack_label, const Array1& src, c
   }
   auto s = send.dev;
   for_block(
-      pack_label, b, p,
-      KOKKOS_LAMBDA(int q, int i, int jj, int k) { s(b.flat(q, i, jj, k)) = src(from(q, i, jj, k)); });
-  const long blk = b.block();
-  sent += size_t(p - 1) * blk * sizeof(Real);
-  MPI_Alltoall(send.send_ptr(), int(blk), MPI_DOUBLE, recv.recv_ptr(), int(blk), MPI_DOUBLE, comm);
+      pack_label, b, p, KOKKOS_LAMBDA(int q, int i, int jj, int k) {
+        if (q == me)
+          dst(to(me, i, jj, k)) = src(from(me, i, jj, k));
+        else
+          s(b.flat(q, i, jj, k)) = src(from(q, i, jj, k));
+      });
+  sent += size_t(p - 1) * b.block() * sizeof(Real);
+  MPI_Alltoallv(send.send_ptr(), g.counts.data(), g.displs.data(), MPI_DOUBLE, recv.recv_ptr(),
+                g.counts.data(), g.displs.data(), MPI_DOUBLE, g.comm);
   recv.received();
   auto r = recv.dev;
   for_block(
-      unpack_label, b, p,
-      KOKKOS_LAMBDA(int q, int i, int jj, int k) { dst(to(q, i, jj, k)) = r(b.flat(q, i, jj, k)); });
+      unpack_label, b, p, KOKKOS_LAMBDA(int q, int i, int jj, int k) {
+        if (q != me) dst(to(q, i, jj, k)) = r(b.flat(q, i, jj, k));
+      });
 }
 
 }  // namespace
 
-Transposer::Transposer(const Decomposition& dec) : dec_(dec) {
+TransposeGroup::TransposeGroup(MPI_Comm c, int np, int rank, long block) : comm(c), p(np), me(rank) {
+  for (int q = 0; q < p; ++q) {
+    counts.push_back(q == me ? 0 : int(block));
+    displs.push_back(int(q * block));
+  }
+}
+
+Transposer::Transposer(const Decomposition& dec)
+    : dec_(dec),
+      xgroup_(dec.xcomm, dec.px, dec.ix, long(dec.nxl) * dec.ny_x * dec.nzl),
+      zgroup_(dec.zcomm, dec.pz, dec.kz, long(dec.nxl) * dec.ny_z * dec.nzl) {
   send_ = MpiBuffer("transpose_send", y_size());
   recv_ = MpiBuffer("transpose_recv", y_size());
 }
@@ -100,7 +119,7 @@ Transposer::Transposer(const Decomposition& dec) : dec_(dec) {
 void Transposer::y_to_x(const Array1& y, const Array1& x) {
   const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_x, dec_.nzl, dec_.nx};
   move(
-      "transpose_pack_y_to_x", "transpose_unpack_y_to_x", y, x, send_, recv_, dec_.xcomm, dec_.px, b,
+      "transpose_pack_y_to_x", "transpose_unpack_y_to_x", y, x, send_, recv_, xgroup_, b,
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.y(q, i, jj, k); },
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.x(q, i, jj, k); }, bytes_sent_);
 }
@@ -108,7 +127,7 @@ void Transposer::y_to_x(const Array1& y, const Array1& x) {
 void Transposer::x_to_y(const Array1& x, const Array1& y) {
   const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_x, dec_.nzl, dec_.nx};
   move(
-      "transpose_pack_x_to_y", "transpose_unpack_x_to_y", x, y, send_, recv_, dec_.xcomm, dec_.px, b,
+      "transpose_pack_x_to_y", "transpose_unpack_x_to_y", x, y, send_, recv_, xgroup_, b,
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.x(q, i, jj, k); },
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.y(q, i, jj, k); }, bytes_sent_);
 }
@@ -116,7 +135,7 @@ void Transposer::x_to_y(const Array1& x, const Array1& y) {
 void Transposer::y_to_z(const Array1& y, const Array1& z) {
   const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_z, dec_.nzl, dec_.nz};
   move(
-      "transpose_pack_y_to_z", "transpose_unpack_y_to_z", y, z, send_, recv_, dec_.zcomm, dec_.pz, b,
+      "transpose_pack_y_to_z", "transpose_unpack_y_to_z", y, z, send_, recv_, zgroup_, b,
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.y(q, i, jj, k); },
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.z(q, i, jj, k); }, bytes_sent_);
 }
@@ -124,7 +143,7 @@ void Transposer::y_to_z(const Array1& y, const Array1& z) {
 void Transposer::z_to_y(const Array1& z, const Array1& y) {
   const PencilBlock b{dec_.ny, dec_.nxl, dec_.ny_z, dec_.nzl, dec_.nz};
   move(
-      "transpose_pack_z_to_y", "transpose_unpack_z_to_y", z, y, send_, recv_, dec_.zcomm, dec_.pz, b,
+      "transpose_pack_z_to_y", "transpose_unpack_z_to_y", z, y, send_, recv_, zgroup_, b,
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.z(q, i, jj, k); },
       KOKKOS_LAMBDA(int q, int i, int jj, int k) { return b.y(q, i, jj, k); }, bytes_sent_);
 }

@@ -6,10 +6,22 @@
 //   z-pencil: (k, i, j) -> k + nz * (i + nxl * j)        j < ny_z
 // so every 1-D FFT and the tridiagonal solves run over contiguous lines.
 #pragma once
+#include <vector>
+
 #include "decomposition.hpp"
 #include "mpi_buffers.hpp"
 
 namespace softflow {
+
+// One all-to-all group (the ranks of a row or a column of the rank grid):
+// this rank's place in it and the MPI_Alltoallv counts, made once (no
+// allocation in the solver's hot path); the own block's count is 0.
+struct TransposeGroup {
+  MPI_Comm comm = MPI_COMM_NULL;
+  int p = 1, me = 0;
+  std::vector<int> counts, displs;
+  TransposeGroup(MPI_Comm c, int np, int rank, long block);
+};
 
 class Transposer {
  public:
@@ -31,6 +43,7 @@ class Transposer {
 
  private:
   const Decomposition& dec_;
+  TransposeGroup xgroup_, zgroup_;
   MpiBuffer send_, recv_;
   size_t bytes_sent_ = 0;
 };
