@@ -84,7 +84,7 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
     const Range3 a = active;
     par_for(
         "solid_transport_clear", region, KOKKOS_LAMBDA(int i, int j, int k) {
-          if (i >= a.ib && i < a.ie && j >= a.jb && j < a.je && k >= a.kb && k < a.ke) return;
+          if (a.contains(i, j, k)) return;
           for (int m = 0; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
         });
   }

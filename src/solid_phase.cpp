@@ -200,7 +200,7 @@ void SolidPhase::zero_outside(const MomentumRhs& f, const Range3& old_region, co
   auto fu = f.u, fv = f.v, fw = f.w;
   par_for(
       "solid_force_clear", old_region, KOKKOS_LAMBDA(int i, int j, int k) {
-        if (i >= n.ib && i < n.ie && j >= n.jb && j < n.je && k >= n.kb && k < n.ke) return;
+        if (n.contains(i, j, k)) return;
         fu(i, j, k) = 0;
         fv(i, j, k) = 0;
         fw(i, j, k) = 0;

@@ -28,8 +28,8 @@ struct PencilBlock {
   long block() const { return long(nxl) * nyb * nzl; }
 };
 
-// i fastest: x-pencils and the buffers are written (or read) contiguously.
-// A 4-D loop, so no element pays for index divisions (a flat loop did).
+// The GPU loop (for_block below): i fastest, so x-pencils and the buffers are
+// written (or read) contiguously; 4-D, so no element pays for index divisions.
 using Policy4 =
     Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<4, Kokkos::Iterate::Left, Kokkos::Iterate::Left>>;
 

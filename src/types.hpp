@@ -22,6 +22,9 @@ struct Range3 {
   int ib, ie, jb, je, kb, ke;
   long size() const { return long(ie - ib) * (je - jb) * (ke - kb); }
   bool empty() const { return ie <= ib || je <= jb || ke <= kb; }
+  KOKKOS_INLINE_FUNCTION bool contains(int i, int j, int k) const {
+    return i >= ib && i < ie && j >= jb && j < je && k >= kb && k < ke;
+  }
 };
 
 // r grown by m cells on every side and clipped to `within`
