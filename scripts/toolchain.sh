@@ -35,33 +35,63 @@ need_root_user() {
   fi
 }
 
-mount_all() {
+# /proc, /sys and /dev inside the root (hwloc and Open MPI need them)
+mount_system() {
   local r=$SOFTFLOW_ROOT
   for d in proc sys dev; do
     mkdir -p "$r/$d"
     mountpoint -q "$r/$d" || mount --rbind "/$d" "$r/$d"
   done
-  mkdir -p "$r/src"
-  if mountpoint -q "$r/src"; then
-    # the root may have been used by another checkout: rebind to this one
-    [ "$(stat -c %d:%i "$r/src")" = "$(stat -c %d:%i "$REPO")" ] || {
-      umount -l "$r/src"
-      mount --bind "$REPO" "$r/src"
-    }
-  else
-    mount --bind "$REPO" "$r/src"
-  fi
 }
 
+# The host folders a user's paths can lie in: every top-level folder that is
+# not part of the operating system. Inside the root they appear at the same
+# absolute paths, so a case file, --out or --restart given as /tmp/x, ~/x or
+# relative to the caller's folder means the same file inside as outside.
+# The OS folders (/usr, /etc, /var, ...) are the root's own.
+SYSTEM_DIRS=" bin boot dev etc lib lib32 lib64 libx32 lost+found proc run sbin sys usr var "
+user_dirs() {
+  local d
+  for d in /*/; do
+    d=${d%/}
+    [ -L "$d" ] && continue
+    case "$SYSTEM_DIRS" in *" ${d#/} "*) continue ;; esac
+    echo "$d"
+  done
+}
+
+# Runs CMD inside the root, in a private mount namespace of its own: the
+# bind mounts exist for this invocation only, so any number of invocations
+# from any number of clones run side by side without seeing each other's
+# mounts (the old scheme rebound one shared /src to the newest caller and
+# broke the runs in flight). The repository is at /src and at its own path;
+# the command starts in the caller's folder when the root can see it, else
+# in /src.
 in_root() {
-  mount_all
-  chroot "$SOFTFLOW_ROOT" /usr/bin/env -i HOME=/root PATH=/usr/local/bin:/usr/bin:/bin \
-    LANG=C.UTF-8 TERM="${TERM:-dumb}" CI="${CI:-}" \
-    OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
-    OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_btl=self,sm \
-    OMP_PROC_BIND=false OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" \
-    SOFTFLOW_BUILD="${SOFTFLOW_BUILD:-build}" \
-    /bin/bash -c 'cd /src && "$@"' bash "$@"
+  local r=$SOFTFLOW_ROOT here
+  here=$(pwd -P)
+  # shellcheck disable=SC2016
+  unshare --mount --propagation private -- /bin/bash -c '
+    set -e
+    r=$1 repo=$2 here=$3; shift 3
+    for d in proc sys dev; do mkdir -p "$r/$d"; mount --rbind "/$d" "$r/$d"; done
+    while read -r d; do
+      [ -d "$d" ] || continue
+      mkdir -p "$r$d" 2>/dev/null || continue
+      mount --rbind "$d" "$r$d"
+    done < <(printf "%s
+" $SOFTFLOW_USER_DIRS)
+    mkdir -p "$r/src"
+    mount --bind "$repo" "$r/src"
+    [ -d "$r$here" ] && [ "$(stat -c %d:%i "$r$here" 2>/dev/null)" = "$(stat -c %d:%i "$here")" ] || here=/src
+    exec chroot "$r" /usr/bin/env -i HOME=/root PATH=/usr/local/bin:/usr/bin:/bin \
+      LANG=C.UTF-8 TERM="${TERM:-dumb}" CI="${CI:-}" \
+      OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+      OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_btl=self,sm \
+      OMP_PROC_BIND=false OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" \
+      SOFTFLOW_BUILD="${SOFTFLOW_BUILD:-build}" SOFTFLOW_REPO="$repo" \
+      /bin/bash -c '"'"'cd "$0" && "$@"'"'"' "$here" "$@"' \
+    bash "$r" "$REPO" "$here" "$@"
 }
 
 setup_root() {
@@ -85,7 +115,7 @@ setup_root() {
     echo "deb $MIRROR trixie main" >"$r/etc/apt/sources.list"
     touch "$r/.softflow-base"
   fi
-  mount_all
+  mount_system
   log "installing compilers and libraries in the root (about 2 minutes)"
   chroot "$r" /bin/bash -c "apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
     apt-get install -y -qq --no-install-recommends ${PACKAGES[*]} >/dev/null"
@@ -115,6 +145,12 @@ setup_root() {
 
 case "${1:-}" in
   setup) setup_root ;;
-  run) shift; setup_root; in_root "$@" ;;
+  run)
+    shift
+    setup_root
+    SOFTFLOW_USER_DIRS=$(user_dirs)
+    export SOFTFLOW_USER_DIRS
+    in_root "$@"
+    ;;
   *) echo "usage: $0 setup | run CMD..." >&2; exit 2 ;;
 esac
