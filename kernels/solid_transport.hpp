@@ -2,10 +2,13 @@
 //   d phi / dt = -div(u phi)
 //   d B / dt   = -div(u B) + L B + B L^T      (upper-convected derivative zero)
 // Advection in conservative flux form: each face flux is the MAC face
-// velocity times the upwind WENO5 value of the field at that face, so the
+// velocity times the upwind value of the field at that face, so the
 // solid volume sum(phi) changes only through round-off (the fluxes telescope).
-// WENO5 over- and undershoots phi at the (one- or two-cell) interface by a
-// few percent; phi_bounded_redistribution() below clips them and gives the
+// B's face values are WENO5 (Jiang-Shu); phi's are THINC (kernels/thinc.hpp,
+// the default: keeps the interface one to two cells thick over long strains)
+// or WENO5 (the reference study's scheme, particles.phi_scheme = "weno5").
+// Both over- and undershoot phi at the interface slightly in 3-D;
+// phi_bounded_redistribution() below clips them and gives the
 // clipped volume back to the interface cells, so phi stays in [0, 1] and the
 // solid volume stays conserved to round-off. Cells whose whole
 // stencil is fluid (phi below the cut-off) get a zero right-hand side for B:
@@ -18,6 +21,7 @@
 #include "flow_state.hpp"
 #include "solid_state.hpp"
 #include "velocity_gradient.hpp"
+#include "thinc.hpp"
 #include "weno5.hpp"
 
 namespace softflow {
@@ -39,6 +43,22 @@ KOKKOS_INLINE_FUNCTION Real weno_z(const Field3& q, Real vel, int i, int j,
   return weno5_face(vel, q(i, j, k - 2), q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2),
                     q(i, j, k + 3));
 }
+
+KOKKOS_INLINE_FUNCTION Real thinc_x(const Field3& q, Real vel, Real beta, int i, int j, int k) {
+  return thinc_face(vel, q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k), beta);
+}
+KOKKOS_INLINE_FUNCTION Real thinc_y(const Field3& q, Real vel, Real beta, int i, int j, int k) {
+  return thinc_face(vel, q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k), beta);
+}
+KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, Real beta, int i, int j, int k) {
+  return thinc_face(vel, q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2), beta);
+}
+
+// phi's face values: THINC with steepness beta, or WENO5 (beta <= 0)
+struct PhiScheme {
+  Real thinc_beta = 0;
+  bool thinc() const { return thinc_beta > 0; }
+};
 
 KOKKOS_INLINE_FUNCTION Real larger(Real a, Real b) { return a > b ? a : b; }
 
@@ -78,7 +98,7 @@ struct FaceFluxes {
 // stage; the rest of `region` gets zero right-hand sides.
 inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const SolidFields& f,
                                 const SolidFields& rhs, const FaceFluxes& flux, const Range3& region,
-                                const Range3& active) {
+                                const Range3& active, PhiScheme scheme = {}) {
   {
     const SolidViews r(rhs);
     const Range3 a = active;
@@ -96,12 +116,22 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   const Range3 faces{active.ib - 1, active.ie, active.jb - 1, active.je, active.kb - 1, active.ke};
   for (int m = 0; m < n_solid_fields; ++m) {
     const Field3 q = f.q[m], r = rhs.q[m];
-    par_for(
-        "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-          fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
-          fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
-          fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
-        });
+    if (m == 0 && scheme.thinc()) {
+      const Real beta = scheme.thinc_beta;
+      par_for(
+          "solid_transport_flux_thinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+            fx(i, j, k) = u(i, j, k) * thinc_x(q, u(i, j, k), beta, i, j, k);
+            fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), beta, i, j, k);
+            fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), beta, i, j, k);
+          });
+    } else {
+      par_for(
+          "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+            fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
+            fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
+            fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
+          });
+    }
     par_for(
         "solid_transport_divergence", active, KOKKOS_LAMBDA(int i, int j, int k) {
           r(i, j, k) = -((fx(i, j, k) - fx(i - 1, j, k)) * idx + (fy(i, j, k) - fy(i, j - 1, k)) * idy +

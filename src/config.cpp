@@ -34,6 +34,9 @@ class TableReader {
     if constexpr (std::is_same_v<T, std::string>) {
       if (!n->is_string()) throw InputError("'" + full(key) + "' must be a string");
       out = n->as_string()->get();
+    } else if constexpr (std::is_same_v<T, bool>) {
+      if (!n->is_boolean()) throw InputError("'" + full(key) + "' must be true or false");
+      out = n->as_boolean()->get();
     } else if constexpr (std::is_integral_v<T>) {
       if (!n->is_integer()) throw InputError("'" + full(key) + "' must be an integer");
       out = static_cast<T>(n->as_integer()->get());
@@ -284,6 +287,16 @@ Config parse_config(const std::string& text, const std::string& name,
       if (has_g) r.positive("shear_modulus", p.shear_modulus);
       r.read("viscosity_ratio", p.viscosity_ratio, false);
       r.positive("viscosity_ratio", p.viscosity_ratio);
+      r.read("phi_scheme", p.phi_scheme, false);
+      if (p.phi_scheme != "thinc" && p.phi_scheme != "weno5")
+        throw InputError("'particles.phi_scheme' must be \"thinc\" or \"weno5\" (got \"" + p.phi_scheme +
+                         "\")");
+      r.read("thinc_beta", p.thinc_beta, false);
+      if (!(p.thinc_beta >= 0.5 && p.thinc_beta <= 10))
+        throw InputError("'particles.thinc_beta' must be in [0.5, 10] (got " + std::to_string(p.thinc_beta) +
+                         ")");
+      r.read("b_extension", p.b_extension, false);
+      r.read("unimodular_b", p.unimodular_b, false);
     }
     r.finish();
   }

@@ -256,7 +256,23 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
         if (q.phi(i, j, k) > 0.5) a = Kokkos::fmax(a, detb(i, j, k));
       },
       Kokkos::Max<Real>(dmax));
+  Real shear[2] = {0, 0};  // phi B_xy over phi < 0.1 cells, over all cells
+  par_reduce(
+      "diagnostics_elastic_lowphi", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+        const Real p = q.phi(i, j, k);
+        if (p < 0.1) a += fraction(p) * q.b1(i, j, k);
+      },
+      Kokkos::Sum<Real>(shear[0]));
+  par_reduce(
+      "diagnostics_elastic_total", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += fraction(q.phi(i, j, k)) * q.b1(i, j, k); },
+      Kokkos::Sum<Real>(shear[1]));
   MPI_Comm c = s_.decomposition().comm;
+  MPI_Allreduce(MPI_IN_PLACE, shear, 2, MPI_DOUBLE, MPI_SUM, c);
+  f.elastic_share_lowphi = shear[1] != 0 ? shear[0] / shear[1] : 0;
+  const SolidPhase::BStats b = s_.solid()->take_b_stats();
+  f.unimodular_removed = b.removed_share;
   MPI_Allreduce(MPI_IN_PLACE, &vol, 1, MPI_DOUBLE, MPI_SUM, c);
   MPI_Allreduce(MPI_IN_PLACE, &pmin, 1, MPI_DOUBLE, MPI_MIN, c);
   MPI_Allreduce(MPI_IN_PLACE, &pmax, 1, MPI_DOUBLE, MPI_MAX, c);
@@ -268,6 +284,9 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
   // no solid cell anywhere: report the neutral value
   f.detb_min = dmin > 1e300 ? 1 : dmin;
   f.detb_max = dmax < -1e300 ? 1 : dmax;
+  // no stage since the last row (the first row): the current range
+  f.detb_raw_min = b.det_min > b.det_max ? f.detb_min : b.det_min;
+  f.detb_raw_max = b.det_min > b.det_max ? f.detb_max : b.det_max;
 }
 
 }  // namespace softflow

@@ -28,7 +28,9 @@ namespace {
 std::string series_header(bool solid) {
   std::string h = "step,time,strain,dt,kinetic_energy,max_div,max_speed,tau_bottom,tau_top,mu_eff,n1,n2";
   for (int b = 0; b < n_budget; ++b) h += std::string(",") + budget_name(b);
-  if (solid) h += ",solid_volume,phi_min,phi_max,detb_min,detb_max";
+  if (solid)
+    h += ",solid_volume,phi_min,phi_max,detb_min,detb_max,detb_raw_min,detb_raw_max,unimodular_removed,"
+         "elastic_share_lowphi";
   return h;
 }
 const char* particles_header =
@@ -99,8 +101,9 @@ void Output::series_row(const FlowScalars& f, Real dt) {
     << f.particle_viscous << "," << f.particle_elastic << "," << f.fluid_reynolds << ","
     << f.particle_reynolds;
   if (s_.solid())
-    r << "," << f.solid_volume << "," << f.phi_min << "," << f.phi_max << "," << f.detb_min << ","
-      << f.detb_max;
+    r << "," << std::setprecision(17) << f.solid_volume << std::setprecision(10) << "," << f.phi_min << ","
+      << f.phi_max << "," << f.detb_min << "," << f.detb_max << "," << f.detb_raw_min << "," << f.detb_raw_max
+      << "," << f.unimodular_removed << "," << f.elastic_share_lowphi;
   series_.append(r.str());
 }
 

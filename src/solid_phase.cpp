@@ -1,5 +1,6 @@
 #include "solid_phase.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -27,6 +28,9 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   stress_.nu_f = cfg.nu();
   stress_.dnu = (cfg.solid_viscosity() - cfg.fluid.mu) / cfg.fluid.rho;
   stress_.g_rho = cfg.shear_modulus() / cfg.fluid.rho;
+  phi_scheme_.thinc_beta = cfg.particles.phi_scheme == "thinc" ? cfg.particles.thinc_beta : 0;
+  extend_b_ = cfg.particles.b_extension;
+  unimodular_b_ = cfg.particles.unimodular_b;
 }
 
 // Elastic waves are advanced explicitly (B from the stage's starting
@@ -212,14 +216,40 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
   // WENO stencil); a dilute case's support is much smaller than the region,
   // which has to hold a whole step's growth
   const Range3 active = track_region_ ? grown_range(phi_support(g_, q_.phi()), 3, region_) : region_;
-  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active);
+  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, phi_scheme_);
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_);
   phi_bounded_redistribution(
       q_, [this](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm()); },
       region_);
   std::swap(rhs_now_, rhs_before_);
   fill_ghosts();
+  constrain_b();
   elastic_force(force_now_, force_region_);
+}
+
+void SolidPhase::constrain_b() {
+  if (extend_b_) extend_b_from_solid(q_, region_, phi_fluid_cut);
+  Real st[4];
+  if (unimodular_b_) {
+    const UnimodularStats u = project_b_unimodular(q_, region_, phi_fluid_cut);
+    st[0] = -u.det_min, st[1] = u.det_max, st[2] = u.removed_xy, st[3] = u.kept_xy;
+  } else {
+    const Kokkos::MinMaxScalar<Real> mm = det_b_range(q_, region_);
+    st[0] = -mm.min_val, st[1] = mm.max_val, st[2] = 0, st[3] = 1;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, st, 2, MPI_DOUBLE, MPI_MAX, halo_.comm());
+  MPI_Allreduce(MPI_IN_PLACE, st + 2, 2, MPI_DOUBLE, MPI_SUM, halo_.comm());
+  b_stats_.det_min = std::min(b_stats_.det_min, -st[0]);
+  b_stats_.det_max = std::max(b_stats_.det_max, st[1]);
+  const Real total = st[2] + st[3];
+  if (total != 0) b_stats_.removed_share = std::max(b_stats_.removed_share, std::fabs(st[2] / total));
+  if (extend_b_ || unimodular_b_) fill_ghosts();
+}
+
+SolidPhase::BStats SolidPhase::take_b_stats() {
+  BStats s = b_stats_;
+  b_stats_ = BStats{};
+  return s;
 }
 
 }  // namespace softflow

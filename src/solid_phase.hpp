@@ -6,6 +6,7 @@
 
 #include "../kernels/flow_state.hpp"
 #include "../kernels/mixture_stress.hpp"
+#include "../kernels/solid_extension.hpp"
 #include "../kernels/solid_state.hpp"
 #include "../kernels/solid_transport.hpp"
 #include "config.hpp"
@@ -56,10 +57,21 @@ class SolidPhase {
   // least 1: a neo-Hookean solid's wave speed is sqrt(G lambda_max(B) / rho)
   Real max_stretch() const;
 
+  // det B before the unimodular projection (phi > 0.5 cells) and the largest
+  // share of the elastic shear stress one projection removed, since the last
+  // call (then reset); without the projection, the range after each stage
+  struct BStats {
+    Real det_min = 1e300, det_max = -1e300, removed_share = 0;
+  };
+  BStats take_b_stats();
+
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
   // private or protected member functions
   void elastic_force(const MomentumRhs& out, const Range3& where);
   void zero_outside(const MomentumRhs& f, const Range3& old_region, const Range3& new_region);
+  // B in the interface band from the solid side, then det B = 1 (as the case
+  // asks; kernels/solid_extension.hpp)
+  void constrain_b();
 
  private:
   const Config& cfg_;
@@ -72,6 +84,9 @@ class SolidPhase {
   StoredTau tau_;  // the elastic stress at cell centres, the force kernel's input
   StoredNu nu_;    // the mixture viscosity at centres and edges
   std::vector<Sphere> spheres_;
+  PhiScheme phi_scheme_;
+  bool extend_b_, unimodular_b_;
+  BStats b_stats_;
   bool track_region_ = true;
   Range3 region_{}, force_region_{};
 };

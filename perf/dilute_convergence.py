@@ -1,0 +1,331 @@
+#!/usr/bin/env python3
+"""One sphere in shear against the exact dilute theory: convergence, and
+speed against error.
+
+  perf/dilute_convergence.py run [--set conv|speed|all] [--only NAME,...] [--threads N]
+  perf/dilute_convergence.py report     # -> perf/results/dilute_convergence.{md,csv,png}
+
+The case (issue 12): one neo-Hookean sphere (r = 1) at the centre of a
+16r x 16r x 16r box, walls 8r from it moving at -+8 (gamma = 1), Re = 0.1
+(rho = 1, mu_f = 10), started from the Couette profile (no start-up
+transient of the fluid), implicit viscosity, to strain 12; averages over
+strain [4, 12), which holds one period of the particle's damped shape
+oscillation (about 4 pi / gamma at K = 1). Phi = 4 pi / 3 / 16^3 = 0.001.
+
+- conv: Ca = 0.1, 0.2, 0.4 at K = 1 and Ca = 0.2 at K = 10, THINC phi, at 4, 6
+  and 8 points per radius (ppr); the observed order from the three, and a
+  Richardson estimate, for T, the inclination, [mu] and N1 / Phi.
+- speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, WENO5).
+  Its error against the theory and against the Richardson value, against
+  wall seconds per strain unit.
+
+Runs go to output/dilute/<run>/ (through scripts/toolchain.sh, one OpenMP
+thread each unless --threads), checkpoint every 400 steps and resume when
+interrupted; finished runs are kept. The theory is
+../shared/spec/dilute_theory.csv (Gao, Hu & Ponte Castaneda 2011): the
+unbounded limit. Walls 8r away raise [mu] and change T by a few percent.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(ROOT, "output", "dilute")
+RESULTS = os.path.join(ROOT, "perf", "results")
+THEORY = os.path.join(ROOT, "..", "shared", "spec", "dilute_theory.csv")
+STRAIN, FROM = 12.0, 4.0
+
+CASE = """[grid]
+nx = {n}
+ny = {n}
+nz = {n}
+lx = 16.0
+ly = 16.0
+lz = 16.0
+[fluid]
+rho = 1.0
+mu = 10.0
+[walls]
+velocity = 8.0
+[particles]
+radius = 1.0
+count = 1
+placement = "centre"
+capillary = {ca}
+viscosity_ratio = {k}
+phi_scheme = "{scheme}"
+[initial]
+type = "couette"
+[time]
+end_strain = {strain}
+cfl = 0.9
+viscous = "implicit"
+[output]
+dir = "{dir}"
+progress_every = 200
+series_every = 5
+profiles_every = 0
+fields_every = 0.0
+checkpoint_every = 400
+"""
+
+
+def runs(which):
+    out = []
+    if which in ("conv", "all"):
+        for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
+            for ppr in (4, 6, 8):
+                out.append((ca, k, "thinc", ppr))
+    if which in ("speed", "all"):
+        for scheme in ("thinc", "weno5"):
+            for ppr in (3, 4, 6, 8):
+                out.append((0.2, 1, scheme, ppr))
+    seen, uniq = set(), []
+    for r in out:
+        if r not in seen:
+            seen.add(r)
+            uniq.append(r)
+    return uniq
+
+
+def name_of(ca, k, scheme, ppr):
+    return f"ca{ca:g}_k{k:g}_{scheme}_r{ppr}"
+
+
+def run_one(run, threads):
+    ca, k, scheme, ppr = run
+    name = name_of(*run)
+    d = os.path.join(OUT, name)
+    try:
+        if json.load(open(os.path.join(d, "summary.json")))["final"]["strain"] >= STRAIN - 1e-9:
+            print(f"dilute_convergence: {name}: done before, kept", flush=True)
+            return
+    except (OSError, KeyError, ValueError):
+        pass
+    os.makedirs(d, exist_ok=True)
+    case = os.path.join(OUT, name + ".toml")
+    with open(case, "w") as f:
+        f.write(CASE.format(n=16 * ppr, ca=ca, k=k, scheme=scheme, strain=STRAIN, dir=d))
+    cmd = [os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "env", f"OMP_NUM_THREADS={threads}",
+           os.path.join(ROOT, "build", "softflow"), case]
+    ckpt = os.path.join(d, "checkpoint.h5")
+    if os.path.exists(ckpt):
+        cmd += ["--restart", ckpt]
+    print(f"dilute_convergence: running {name}", flush=True)
+    with open(os.path.join(OUT, name + ".log"), "a") as log:
+        subprocess.run(cmd, cwd=ROOT, check=True, stdout=log, stderr=subprocess.STDOUT)
+
+
+def batch_mean(v, batches=10):
+    m = sum(v) / len(v)
+    n = len(v) // batches
+    if n < 2:
+        return m, math.nan
+    skip = len(v) - n * batches
+    bm = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
+    mb = sum(bm) / batches
+    return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
+
+
+def measure(run):
+    d = os.path.join(OUT, name_of(*run))
+    try:
+        s = json.load(open(os.path.join(d, "summary.json")))
+    except (OSError, ValueError):
+        return None
+    if s["final"]["strain"] < STRAIN - 1e-9:
+        return None
+    series = [r for r in csv.DictReader(open(os.path.join(d, "series.csv"))) if float(r["strain"]) >= FROM]
+    parts = [r for r in csv.DictReader(open(os.path.join(d, "particles.csv"))) if float(r["strain"]) >= FROM]
+    phi = float(series[-1]["solid_volume"]) / 16.0 ** 3
+    q = {"T": batch_mean([float(r["taylor_mean"]) for r in parts]),
+         "inclination": batch_mean([float(r["angle_mean_deg"]) for r in parts]),
+         "intrinsic": batch_mean([(float(r["mu_eff"]) - 1) / phi for r in series]),
+         "N1_per_Phi": batch_mean([float(r["n1"]) / phi for r in series])}
+    perf = s["performance"]
+    return {"q": q, "wall_per_strain": perf["wall_seconds"] / s["final"]["strain"], "steps": s["final"]["step"],
+            "threads": s.get("threads", 1)}
+
+
+def theory(ca, k):
+    for r in csv.DictReader(open(THEORY)):
+        if abs(float(r["Ca"]) - ca) < 1e-9 and abs(float(r["K"]) - k) < 1e-9:
+            return {"T": float(r["taylor_D"]), "inclination": float(r["inclination_deg"]),
+                    "intrinsic": float(r["intrinsic_viscosity"]), "N1_per_Phi": float(r["N1_per_Phi"])}
+    return None
+
+
+def observed_order(h, f):
+    """Order p from three (h, f), h decreasing, with (f1 - f2)/(f2 - f3) =
+    (h1^p - h2^p)/(h2^p - h3^p); None when the differences change sign
+    (not in the asymptotic range)."""
+    d1, d2 = f[0] - f[1], f[1] - f[2]
+    if d1 * d2 <= 0:
+        return None
+    r = d1 / d2
+
+    def g(p):
+        return (h[0] ** p - h[1] ** p) / (h[1] ** p - h[2] ** p) - r
+
+    lo, hi = 0.05, 8.0
+    if g(lo) * g(hi) > 0:
+        return None
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        if g(lo) * g(mid) <= 0:
+            hi = mid
+        else:
+            lo = mid
+    return (lo + hi) / 2
+
+
+def richardson(h, f, p):
+    """Extrapolated value from the two finest and order p; the error bar is
+    the size of the correction (at the formal order 2 when p is unclear)."""
+    pp = p if p is not None else 2.0
+    fin = f[2] + (f[2] - f[1]) / ((h[1] / h[2]) ** pp - 1)
+    return fin, abs(fin - f[2])
+
+
+QUANT = [("T", "T", 0.05), ("inclination", "inclination (deg)", 0.05), ("intrinsic", "[mu]", 0.10),
+         ("N1_per_Phi", "N1 / Phi", 0.10)]
+
+
+def cmd_report(_):
+    lines = ["# One sphere in shear against the exact dilute theory", "",
+             "Produced by `perf/dilute_convergence.py run --set all` then `perf/dilute_convergence.py report`"
+             " (its docstring has the set-up: 16r x 16r x 16r box, walls 8r from the sphere, Re = 0.1,"
+             f" from the Couette profile, averages over strain [{FROM:g}, {STRAIN:g})). "
+             "Theory: shared/spec/dilute_theory.csv (unbounded). Tolerances of the issue: T and"
+             " inclination within 5% of the theory, [mu] and N1 within 10%.", "",
+             "## Convergence (THINC phi)", "",
+             "| Ca | K | quantity | 4 ppr | 6 ppr | 8 ppr | observed order | Richardson | theory | "
+             "Richardson vs theory | within |", "|" + "---|" * 11]
+    csv_rows = []
+    for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
+        m = [measure((ca, k, "thinc", p)) for p in (4, 6, 8)]
+        th = theory(ca, k)
+        for key, label, tol in QUANT:
+            vals = [x["q"][key] if x else None for x in m]
+            cells = [f"{v[0]:.4f} ± {v[1]:.4f}" if v else "-" for v in vals]
+            if None in vals:
+                lines.append(f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) + " | - | - | "
+                             f"{th[key]:.4f} | - | - |")
+                continue
+            h = [1 / 4, 1 / 6, 1 / 8]
+            f = [v[0] for v in vals]
+            p = observed_order(h, f)
+            fin, err = richardson(h, f, p)
+            err = math.hypot(err, 2 * vals[2][1])
+            rel = fin / th[key] - 1
+            ok = abs(rel) <= tol
+            lines.append(f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) +
+                         f" | {p:.2f} | {fin:.4f} ± {err:.4f} | {th[key]:.4f} | {100 * rel:+.1f}% | "
+                         f"{'yes' if ok else 'NO'} ({100 * tol:g}%) |" if p is not None else
+                         f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) +
+                         f" | unclear | {fin:.4f} ± {err:.4f} (p = 2) | {th[key]:.4f} | {100 * rel:+.1f}% | "
+                         f"{'yes' if ok else 'NO'} ({100 * tol:g}%) |")
+            csv_rows.append({"Ca": ca, "K": k, "quantity": key, "f4": f[0], "f6": f[1], "f8": f[2],
+                             "order": p, "richardson": fin, "richardson_err": err, "theory": th[key]})
+    # speed against error
+    lines += ["", "## Speed against error (Ca = 0.2, K = 1)", "",
+              "Error of each run against the theory and against the Richardson value of the THINC series"
+              " (the discretisation error alone); wall seconds per strain unit on the 2-core VM, one"
+              " OpenMP thread per run, runs side by side (timings carry 10-25% noise).", "",
+              "| phi scheme | ppr | steps | wall s / strain | T | err T vs theory | err T vs Richardson | [mu] | "
+              "err [mu] vs theory | err [mu] vs Richardson |", "|" + "---|" * 10]
+    th = theory(0.2, 1)
+    conv = [measure((0.2, 1, "thinc", p)) for p in (4, 6, 8)]
+    rich = {}
+    if None not in conv:
+        for key in ("T", "intrinsic"):
+            f = [x["q"][key][0] for x in conv]
+            rich[key] = richardson([1 / 4, 1 / 6, 1 / 8], f, observed_order([1 / 4, 1 / 6, 1 / 8], f))[0]
+    pts = []
+    for scheme in ("thinc", "weno5"):
+        for ppr in (3, 4, 6, 8):
+            x = measure((0.2, 1, scheme, ppr))
+            if not x:
+                continue
+            T, mu = x["q"]["T"][0], x["q"]["intrinsic"][0]
+            eT, emu = abs(T / th["T"] - 1), abs(mu / th["intrinsic"] - 1)
+            rT = abs(T / rich["T"] - 1) if rich else math.nan
+            rmu = abs(mu / rich["intrinsic"] - 1) if rich else math.nan
+            pts.append((scheme, ppr, x["wall_per_strain"], eT, emu, rT, rmu))
+            lines.append(f"| {scheme} | {ppr} | {x['steps']} | {x['wall_per_strain']:.1f} | {T:.4f} | "
+                         f"{100 * eT:.1f}% | {100 * rT:.1f}% | {mu:.3f} | {100 * emu:.1f}% | {100 * rmu:.1f}% |")
+            csv_rows.append({"Ca": 0.2, "K": 1, "quantity": f"speed_{scheme}_r{ppr}", "f4": T, "f6": mu,
+                             "f8": x["wall_per_strain"], "order": None, "richardson": None,
+                             "richardson_err": None, "theory": None})
+    cheap = [p for p in pts if p[6] <= 0.05] if rich else []
+    if cheap:
+        best = min(cheap, key=lambda p: p[2])
+        lines += ["", f"Cheapest run within 5% of the Richardson [mu]: {best[0]} at {best[1]} ppr, "
+                      f"{best[2]:.1f} wall s per strain unit."]
+    os.makedirs(RESULTS, exist_ok=True)
+    md = os.path.join(RESULTS, "dilute_convergence.md")
+    with open(md + ".tmp", "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+    os.replace(md + ".tmp", md)
+    if csv_rows:
+        path = os.path.join(RESULTS, "dilute_convergence.csv")
+        with open(path + ".tmp", "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(csv_rows[0]))
+            w.writeheader()
+            w.writerows(csv_rows)
+        os.replace(path + ".tmp", path)
+    if pts:
+        plot(pts)
+    print("\n".join(lines))
+
+
+def plot(pts):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(9, 3.8))
+    for scheme, c in (("thinc", "C0"), ("weno5", "C3")):
+        sel = sorted([p for p in pts if p[0] == scheme], key=lambda p: p[1])
+        if not sel:
+            continue
+        for a, i, j, lab in ((ax[0], 3, 5, "T"), (ax[1], 4, 6, "[mu]")):
+            a.loglog([p[2] for p in sel], [100 * p[i] for p in sel], "o-", color=c, label=f"{scheme} vs theory")
+            a.loglog([p[2] for p in sel], [100 * p[j] for p in sel], "s--", color=c, mfc="none",
+                     label=f"{scheme} vs Richardson")
+            for p in sel:
+                a.annotate(f"{p[1]}", (p[2], 100 * p[i]), fontsize=7)
+            a.set_xlabel("wall seconds per strain unit (1 thread)")
+            a.set_ylabel(f"error of {lab} (%)")
+    ax[1].axhline(5, color="gray", lw=0.6)
+    ax[0].legend(fontsize=7)
+    fig.tight_layout()
+    out = os.path.join(RESULTS, "dilute_speed_error.png")
+    fig.savefig(out + ".tmp.png", dpi=110)
+    os.replace(out + ".tmp.png", out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("run")
+    r.add_argument("--set", default="all", choices=["conv", "speed", "all"])
+    r.add_argument("--only", default=None, help="comma-separated run names")
+    r.add_argument("--threads", type=int, default=1)
+    sub.add_parser("report")
+    a = ap.parse_args()
+    if a.cmd == "report":
+        cmd_report(a)
+        return
+    only = set(a.only.split(",")) if a.only else None
+    for run in runs(a.set):
+        if only and name_of(*run) not in only:
+            continue
+        run_one(run, a.threads)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

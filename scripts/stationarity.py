@@ -1,0 +1,195 @@
+#!/usr/bin/env python3
+"""Is a run stationary, and is its solid phase physical? The checks of
+issue 12, from a run folder's series.csv, particles.csv and summary.json.
+
+  scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--md OUT.md]
+  scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ...
+
+check, per run:
+  - mu (mu/mu_f; for a dilute run, Phi < 0.01, the intrinsic viscosity
+    [mu] = (mu/mu_f - 1)/Phi instead) and the mean Taylor parameter T,
+    averaged over the strain windows [w0, w1) and [w1, w2); each with its
+    10-batch-means standard error. They agree when the difference is within
+    2 standard errors of the difference, sqrt(se1^2 + se2^2), or within 1%
+    of the later mean, whichever is larger.
+  - det B over the cells with phi > 0.5 stays in [0.97, 1.03] at every row
+    (the detb_raw_* columns: before the unimodular projection, over every
+    RK3 stage since the previous row); and the largest share of the elastic
+    shear stress one projection removed.
+  - cells with phi < 0.1 carry less than 5% of sum(phi G B_xy), at every row
+    after strain 1 (the start-up from a sphere).
+  - the solid volume stays within 1e-12 relative of its first value.
+figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
+old scheme's run of the same case) beside it.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+
+def batch_mean(v, batches=10):
+    """Mean and 10-batch-means standard error (as src/averaging.cpp)."""
+    m = sum(v) / len(v)
+    n = len(v) // batches
+    if n < 2:
+        return m, math.nan
+    skip = len(v) - n * batches
+    bm = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
+    mb = sum(bm) / batches
+    return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
+
+
+class Run:
+    def __init__(self, folder):
+        self.folder = folder
+        self.name = os.path.basename(os.path.normpath(folder))
+        self.series = list(csv.DictReader(open(os.path.join(folder, "series.csv"))))
+        self.particles = list(csv.DictReader(open(os.path.join(folder, "particles.csv"))))
+        s = json.load(open(os.path.join(folder, "summary.json")))
+        self.box = s["case"]["box"]
+        self.grid = s["case"]["grid"]
+        self.wall_seconds = s["performance"]["wall_seconds"]
+        vol = self.box[0] * self.box[1] * self.box[2]
+        self.phi = float(self.series[-1]["solid_volume"]) / vol
+        self.dilute = self.phi < 0.01
+        self.mu_name = "[mu]" if self.dilute else "mu/mu_f"
+
+    def strain(self, rows):
+        return [float(r["strain"]) for r in rows]
+
+    def mu(self, r):
+        m = float(r["mu_eff"])
+        return (m - 1) / self.phi if self.dilute else m
+
+    def window(self, lo, hi):
+        mu = [self.mu(r) for r in self.series if lo <= float(r["strain"]) < hi]
+        t = [float(r["taylor_mean"]) for r in self.particles if lo <= float(r["strain"]) < hi]
+        if len(mu) < 20 or len(t) < 20:
+            return None
+        return batch_mean(mu), batch_mean(t)
+
+
+def agree(a, b):
+    (m1, s1), (m2, s2) = a, b
+    tol = max(2 * math.sqrt(s1 * s1 + s2 * s2), 0.01 * abs(m2))
+    return abs(m2 - m1) <= tol, tol
+
+
+def check(run, windows):
+    rows = [r for r in run.series if int(r["step"]) > 0]
+    reached = float(run.series[-1]["strain"])
+    out = {"run": run.name, "grid": "x".join(map(str, run.grid)), "strain": reached, "phi": run.phi}
+    w = [run.window(windows[0], windows[1]), run.window(windows[1], windows[2])]
+    ok = reached >= windows[2] - 1e-6 and None not in w
+    if None not in w:
+        (mu1, t1), (mu2, t2) = w
+        a_mu, tol_mu = agree(mu1, mu2)
+        a_t, tol_t = agree(t1, t2)
+        out.update(mu1=mu1, mu2=mu2, t1=t1, t2=t2, tol_mu=tol_mu, tol_t=tol_t, mu_ok=a_mu, t_ok=a_t)
+        ok = ok and a_mu and a_t
+    lo_col = "detb_raw_min" if "detb_raw_min" in rows[0] else "detb_min"
+    hi_col = "detb_raw_max" if "detb_raw_max" in rows[0] else "detb_max"
+    dmin = min(float(r[lo_col]) for r in rows)
+    dmax = max(float(r[hi_col]) for r in rows)
+    out.update(detb=(dmin, dmax), detb_ok=0.97 <= dmin and dmax <= 1.03)
+    removed = [float(r.get("unimodular_removed", 0) or 0) for r in rows]
+    out["removed_max"] = max(removed)
+    late = [float(r["elastic_share_lowphi"]) for r in rows
+            if "elastic_share_lowphi" in r and float(r["strain"]) >= 1]
+    out["lowphi_max"] = max(late) if late else math.nan
+    out["lowphi_ok"] = bool(late) and out["lowphi_max"] < 0.05
+    v = [float(r["solid_volume"]) for r in run.series]
+    out["volume_drift"] = max(abs(x / v[0] - 1) for x in v)
+    out["volume_ok"] = out["volume_drift"] <= 1e-12
+    out["pass"] = ok and out["detb_ok"] and out["lowphi_ok"] and out["volume_ok"]
+    out["mu_name"] = run.mu_name
+    out["wall_per_strain"] = run.wall_seconds / max(reached, 1e-9)
+    return out
+
+
+def fmt(m):
+    return f"{m[0]:.4f} ± {m[1]:.4f}"
+
+
+def markdown(results, windows):
+    w = windows
+    lines = [f"| run | grid | strain | Phi | quantity | [{w[0]:g},{w[1]:g}) | [{w[1]:g},{w[2]:g}) | agree (tol) "
+             "| T [{0:g},{1:g}) | T [{1:g},{2:g}) | agree (tol) | det B (phi > 0.5) | max projection share "
+             "| max share phi < 0.1 | volume drift | wall s / strain | pass |".format(*w),
+             "|" + "---|" * 17]
+    for r in results:
+        if "mu1" in r:
+            cols = [r["mu_name"], fmt(r["mu1"]), fmt(r["mu2"]), f"{'yes' if r['mu_ok'] else 'NO'} ({r['tol_mu']:.4f})",
+                    fmt(r["t1"]), fmt(r["t2"]), f"{'yes' if r['t_ok'] else 'NO'} ({r['tol_t']:.4f})"]
+        else:
+            cols = [r["mu_name"], "-", "-", "not reached", "-", "-", "not reached"]
+        lines.append("| " + " | ".join([r["run"], r["grid"], f"{r['strain']:.1f}", f"{r['phi']:.4f}"] + cols + [
+            f"[{r['detb'][0]:.4f}, {r['detb'][1]:.4f}]", f"{r['removed_max']:.1e}", f"{r['lowphi_max']:.3f}",
+            f"{r['volume_drift']:.1e}", f"{r['wall_per_strain']:.0f}", "PASS" if r["pass"] else "FAIL"]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def figure(out, pairs):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(2, len(pairs), figsize=(4.2 * len(pairs), 6), squeeze=False)
+    for c, pair in enumerate(pairs):
+        for k, folder in enumerate(pair.split(",")):
+            run = Run(folder)
+            style = dict(lw=0.8, color="C0" if k == 0 else "C3", label="new scheme" if k == 0 else "old scheme")
+            ax[0][c].plot(run.strain(run.series), [run.mu(r) for r in run.series], **style)
+            ax[1][c].plot(run.strain(run.particles), [float(r["taylor_mean"]) for r in run.particles], **style)
+            ax[0][c].set_title(f"{run.name} (Phi = {run.phi:.4f})", fontsize=9)
+            ax[0][c].set_ylabel(run.mu_name)
+        ax[1][c].set_ylabel("T")
+        ax[1][c].set_xlabel("strain")
+        # the scale of the data after the start-up, so that drift is visible
+        for a in ax[:, c]:
+            ys = [y for line in a.get_lines() for x, y in zip(line.get_xdata(), line.get_ydata()) if x >= 2]
+            if ys:
+                lo, hi = min(ys), max(ys)
+                pad = 0.08 * (hi - lo) + 1e-9
+                a.set_ylim(lo - pad, hi + pad)
+            a.legend(fontsize=7)
+    fig.tight_layout()
+    tmp = out + ".tmp.png"
+    fig.savefig(tmp, dpi=110)
+    os.replace(tmp, out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    c = sub.add_parser("check")
+    c.add_argument("runs", nargs="+")
+    c.add_argument("--windows", default="10,30,50")
+    c.add_argument("--md")
+    f = sub.add_parser("figure")
+    f.add_argument("out")
+    f.add_argument("pairs", nargs="+")
+    a = ap.parse_args()
+    if a.cmd == "figure":
+        figure(os.path.abspath(a.out), a.pairs)
+        return
+    windows = [float(x) for x in a.windows.split(",")]
+    results = []
+    for folder in a.runs:
+        try:
+            results.append(check(Run(folder), windows))
+        except (OSError, KeyError, ValueError) as e:
+            sys.exit(f"stationarity: cannot read the run in {folder}: {e}")
+    text = markdown(results, windows)
+    sys.stdout.write(text)
+    if a.md:
+        with open(a.md + ".tmp", "w") as fh:
+            fh.write(text)
+        os.replace(a.md + ".tmp", a.md)
+    sys.exit(0 if all(r["pass"] for r in results) else 1)
+
+
+if __name__ == "__main__":
+    main()
