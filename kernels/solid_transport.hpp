@@ -44,14 +44,14 @@ KOKKOS_INLINE_FUNCTION Real weno_z(const Field3& q, Real vel, int i, int j,
                     q(i, j, k + 3));
 }
 
-KOKKOS_INLINE_FUNCTION Real thinc_x(const Field3& q, Real vel, Real beta, int i, int j, int k) {
-  return thinc_face(vel, q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k), beta);
+KOKKOS_INLINE_FUNCTION Real thinc_x(const Field3& q, Real vel, const Thinc& t, int i, int j, int k) {
+  return thinc_face(vel, q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k), t);
 }
-KOKKOS_INLINE_FUNCTION Real thinc_y(const Field3& q, Real vel, Real beta, int i, int j, int k) {
-  return thinc_face(vel, q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k), beta);
+KOKKOS_INLINE_FUNCTION Real thinc_y(const Field3& q, Real vel, const Thinc& t, int i, int j, int k) {
+  return thinc_face(vel, q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k), t);
 }
-KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, Real beta, int i, int j, int k) {
-  return thinc_face(vel, q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2), beta);
+KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, const Thinc& t, int i, int j, int k) {
+  return thinc_face(vel, q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2), t);
 }
 
 // phi's face values: THINC with steepness beta, or WENO5 (beta <= 0)
@@ -117,12 +117,12 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   for (int m = 0; m < n_solid_fields; ++m) {
     const Field3 q = f.q[m], r = rhs.q[m];
     if (m == 0 && scheme.thinc()) {
-      const Real beta = scheme.thinc_beta;
+      const Thinc t = make_thinc(scheme.thinc_beta);
       par_for(
           "solid_transport_flux_thinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-            fx(i, j, k) = u(i, j, k) * thinc_x(q, u(i, j, k), beta, i, j, k);
-            fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), beta, i, j, k);
-            fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), beta, i, j, k);
+            fx(i, j, k) = u(i, j, k) * thinc_x(q, u(i, j, k), t, i, j, k);
+            fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), t, i, j, k);
+            fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), t, i, j, k);
           });
     } else {
       par_for(

@@ -11,9 +11,18 @@
 // give their own value (first-order upwind), as in THINC/SW.
 // Point-wise and backend-neutral, unit-tested on the host (tests/test_thinc.cpp).
 #pragma once
+#include <cmath>
+
 #include "../src/types.hpp"
 
 namespace softflow {
+
+// beta with its tanh and cosh, computed once on the host (a kernel would
+// otherwise call both per face)
+struct Thinc {
+  Real beta, tanh_beta, cosh_beta;
+};
+inline Thinc make_thinc(Real beta) { return {beta, std::tanh(beta), std::cosh(beta)}; }
 
 struct ThincStep {
   Real qmin, dq, theta, A;  // A = -tanh(beta X0)
@@ -21,7 +30,7 @@ struct ThincStep {
 };
 
 // The step of cell c from its left neighbour qm, value qc and right neighbour qp
-KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, Real beta) {
+KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, const Thinc& t) {
   constexpr Real eps = 1e-20;
   ThincStep s{0, 0, 0, 0, false};
   const Real lo = qm < qp ? qm : qp, hi = qm < qp ? qp : qm;
@@ -32,22 +41,22 @@ KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, Real beta
   if (!s.interface) return s;
   s.theta = qp >= qm ? Real(1) : Real(-1);
   const Real C = (qc - lo + eps) / (s.dq + eps);
-  const Real B = Kokkos::exp(s.theta * beta * (2 * C - 1));
-  s.A = (B / Kokkos::cosh(beta) - 1) / Kokkos::tanh(beta);
+  const Real B = Kokkos::exp(s.theta * t.beta * (2 * C - 1));
+  s.A = (B / t.cosh_beta - 1) / t.tanh_beta;
   return s;
 }
 
 // Value at the right face (X = 1) of cell c
-KOKKOS_INLINE_FUNCTION Real thinc_right(Real qm, Real qc, Real qp, Real beta) {
-  const ThincStep s = thinc_step(qm, qc, qp, beta);
+KOKKOS_INLINE_FUNCTION Real thinc_right(Real qm, Real qc, Real qp, const Thinc& t) {
+  const ThincStep s = thinc_step(qm, qc, qp, t);
   if (!s.interface) return qc;
-  const Real t = Kokkos::tanh(beta);
-  return s.qmin + s.dq / 2 * (1 + s.theta * (t + s.A) / (1 + s.A * t));
+  const Real tb = t.tanh_beta;
+  return s.qmin + s.dq / 2 * (1 + s.theta * (tb + s.A) / (1 + s.A * tb));
 }
 
 // Value at the left face (X = 0) of cell c
-KOKKOS_INLINE_FUNCTION Real thinc_left(Real qm, Real qc, Real qp, Real beta) {
-  const ThincStep s = thinc_step(qm, qc, qp, beta);
+KOKKOS_INLINE_FUNCTION Real thinc_left(Real qm, Real qc, Real qp, const Thinc& t) {
+  const ThincStep s = thinc_step(qm, qc, qp, t);
   if (!s.interface) return qc;
   return s.qmin + s.dq / 2 * (1 + s.theta * s.A);
 }
@@ -56,10 +65,10 @@ KOKKOS_INLINE_FUNCTION Real thinc_left(Real qm, Real qc, Real qp, Real beta) {
 // velocity: the right face of cell c for vel >= 0, else the left face of c+1.
 // The cells are chosen first and the step evaluated once (no branch around
 // the arithmetic, as in weno5_face).
-KOKKOS_INLINE_FUNCTION Real thinc_face(Real vel, Real qm1, Real q0, Real qp1, Real qp2, Real beta) {
+KOKKOS_INLINE_FUNCTION Real thinc_face(Real vel, Real qm1, Real q0, Real qp1, Real qp2, const Thinc& t) {
   const bool left = vel >= 0;
   // mirrored for vel < 0: the right face of the mirrored cell c+1
-  return thinc_right(left ? qm1 : qp2, left ? q0 : qp1, left ? qp1 : q0, beta);
+  return thinc_right(left ? qm1 : qp2, left ? q0 : qp1, left ? qp1 : q0, t);
 }
 
 }  // namespace softflow

@@ -39,12 +39,21 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       // reads only phi and
       // writes zeros) (all over the solid region of kernels/solid_region.hpp)
       {"solid_transport_flux", {4, 3, "r: u,v,w, one field; w: its x, y, z face fluxes", Domain::solid}},
+      // phi's THINC face fluxes (particles.phi_scheme = "thinc"): the same arrays
+      {"solid_transport_flux_thinc", {4, 3, "r: u,v,w, phi; w: its x, y, z face fluxes", Domain::solid}},
       {"solid_transport_divergence", {3, 1, "r: the three face fluxes; w: the field's rhs", Domain::solid}},
       {"solid_transport_source", {16, 6, "r: u,v,w,phi,B(6),rhs B(6); w: rhs B(6)", Domain::solid}},
       {"solid_rk3_update", {21, 7, "r: phi,B(6), rhs_now(7), rhs_before(7); w: phi,B(6)", Domain::solid}},
       {"solid_phi_excess", {1, 0, "r: phi", Domain::solid}},
       {"solid_phi_interface_weight", {1, 0, "r: phi", Domain::solid}},
       {"solid_phi_redistribute", {1, 1, "r: phi; w: phi", Domain::solid}},
+      // kernels/solid_extension.hpp: B in the interface band from the solid
+      // side (reads a 5x5x5 block of phi and B, from cache: counted once),
+      // det B's range, the projection and its shear sum
+      {"solid_b_extension", {7, 6, "r: phi,B(6); w: B(6) of band cells", Domain::solid}},
+      {"solid_b_det_range", {7, 0, "r: phi,B(6)", Domain::solid}},
+      {"solid_b_unimodular", {7, 6, "r: phi,B(6); w: B(6)", Domain::solid}},
+      {"solid_b_shear_sum", {2, 0, "r: phi,Bxy", Domain::solid}},
       // src/solid_phase.cpp: the elastic force uses all six components of B
       {"solid_elastic_stress", {7, 6, "r: phi,B(6); w: tau(6)", Domain::solid_force}},
       {"solid_elastic_force", {6, 3, "r: tau(6); w: Fu,Fv,Fw", Domain::solid_force}},

@@ -272,7 +272,7 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
   MPI_Allreduce(MPI_IN_PLACE, shear, 2, MPI_DOUBLE, MPI_SUM, c);
   f.elastic_share_lowphi = shear[1] != 0 ? shear[0] / shear[1] : 0;
   const SolidPhase::BStats b = s_.solid()->take_b_stats();
-  f.unimodular_removed = b.removed_share;
+  f.unimodular_removed = b.stages > 0 ? b.removed_sum / Real(b.stages) : 0;
   MPI_Allreduce(MPI_IN_PLACE, &vol, 1, MPI_DOUBLE, MPI_SUM, c);
   MPI_Allreduce(MPI_IN_PLACE, &pmin, 1, MPI_DOUBLE, MPI_MIN, c);
   MPI_Allreduce(MPI_IN_PLACE, &pmax, 1, MPI_DOUBLE, MPI_MAX, c);

@@ -40,8 +40,9 @@ struct FlowScalars {
   Real phi_min = 0, phi_max = 0;
   Real detb_min = 1, detb_max = 1;  // det B over cells with phi > 0.5 (exactly 1 in theory)
   // the same over every stage since the previous row, before the unimodular
-  // projection (src/solid_phase.hpp); the largest share of the elastic shear
-  // stress one projection removed; the share of the volume-summed elastic
+  // projection (src/solid_phase.hpp); the mean over those stages of the
+  // share of the solid's elastic shear stress one projection removed
+  // (signed); the share of the volume-summed elastic
   // shear stress phi G B_xy carried by cells with phi < 0.1
   Real detb_raw_min = 1, detb_raw_max = 1, unimodular_removed = 0, elastic_share_lowphi = 0;
 };

@@ -228,10 +228,10 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
 }
 
 void SolidPhase::constrain_b() {
-  if (extend_b_) extend_b_from_solid(q_, region_, phi_fluid_cut);
+  if (extend_b_) extend_b_from_solid(q_, region_);
   Real st[4];
   if (unimodular_b_) {
-    const UnimodularStats u = project_b_unimodular(q_, region_, phi_fluid_cut);
+    const UnimodularStats u = project_b_unimodular(q_, region_);
     st[0] = -u.det_min, st[1] = u.det_max, st[2] = u.removed_xy, st[3] = u.kept_xy;
   } else {
     const Kokkos::MinMaxScalar<Real> mm = det_b_range(q_, region_);
@@ -242,7 +242,8 @@ void SolidPhase::constrain_b() {
   b_stats_.det_min = std::min(b_stats_.det_min, -st[0]);
   b_stats_.det_max = std::max(b_stats_.det_max, st[1]);
   const Real total = st[2] + st[3];
-  if (total != 0) b_stats_.removed_share = std::max(b_stats_.removed_share, std::fabs(st[2] / total));
+  if (total != 0) b_stats_.removed_sum += st[2] / total;
+  ++b_stats_.stages;
   if (extend_b_ || unimodular_b_) fill_ghosts();
 }
 

@@ -57,11 +57,13 @@ class SolidPhase {
   // least 1: a neo-Hookean solid's wave speed is sqrt(G lambda_max(B) / rho)
   Real max_stretch() const;
 
-  // det B before the unimodular projection (phi > 0.5 cells) and the largest
-  // share of the elastic shear stress one projection removed, since the last
-  // call (then reset); without the projection, the range after each stage
+  // det B before the unimodular projection (phi > 0.5 cells; without the
+  // projection, after each stage) and the sum over stages of the share of
+  // the solid's elastic shear stress each projection removed (signed: a
+  // bias shows as a non-zero mean), since the last call (then reset)
   struct BStats {
-    Real det_min = 1e300, det_max = -1e300, removed_share = 0;
+    Real det_min = 1e300, det_max = -1e300, removed_sum = 0;
+    long stages = 0;
   };
   BStats take_b_stats();
 

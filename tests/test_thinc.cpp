@@ -14,7 +14,7 @@ namespace {
 // the tanh step of cell (qm, qc, qp) at X in [0, 1], from its two face values:
 // the step's centre X0 follows from A = -tanh(beta X0)
 double step_at(double qm, double qc, double qp, double beta, double X) {
-  const ThincStep s = thinc_step(qm, qc, qp, beta);
+  const ThincStep s = thinc_step(qm, qc, qp, make_thinc(beta));
   const double x0 = std::atanh(-s.A) / beta;
   return s.qmin + s.dq / 2 * (1 + s.theta * std::tanh(beta * (X - x0)));
 }
@@ -30,7 +30,8 @@ TEST(Thinc, StepAveragesToTheCellValueAndStaysInItsNeighboursRange) {
         const int n = 20000;
         for (int s = 0; s < n; ++s) avg += step_at(qm, qc, qp, beta, (s + 0.5) / n) / n;
         EXPECT_NEAR(avg, qc, 1e-8) << "beta " << beta << " qc " << qc;
-        const double r = thinc_right(qm, qc, qp, beta), l = thinc_left(qm, qc, qp, beta);
+        const double r = thinc_right(qm, qc, qp, make_thinc(beta)),
+                     l = thinc_left(qm, qc, qp, make_thinc(beta));
         EXPECT_NEAR(r, step_at(qm, qc, qp, beta, 1.0), 1e-12);
         EXPECT_NEAR(l, step_at(qm, qc, qp, beta, 0.0), 1e-12);
         EXPECT_GE(std::min(l, r), 0.0);
@@ -41,12 +42,13 @@ TEST(Thinc, StepAveragesToTheCellValueAndStaysInItsNeighboursRange) {
 }
 
 TEST(Thinc, NonInterfaceCellsGiveTheirOwnValue) {
-  EXPECT_EQ(thinc_right(0.0, 0.0, 0.0, 2.0), 0.0);
-  EXPECT_EQ(thinc_right(1.0, 1.0, 1.0, 2.0), 1.0);
-  EXPECT_EQ(thinc_right(0.0, 0.7, 0.3, 2.0), 0.7);  // an extremum: first-order upwind
+  const Thinc t = make_thinc(2.0);
+  EXPECT_EQ(thinc_right(0.0, 0.0, 0.0, t), 0.0);
+  EXPECT_EQ(thinc_right(1.0, 1.0, 1.0, t), 1.0);
+  EXPECT_EQ(thinc_right(0.0, 0.7, 0.3, t), 0.7);  // an extremum: first-order upwind
   // the face value from the right (vel < 0) mirrors the one from the left
-  EXPECT_DOUBLE_EQ(thinc_face(-1, 0.9, 0.6, 0.3, 0.0, 2.0), thinc_left(0.6, 0.3, 0.0, 2.0));
-  EXPECT_DOUBLE_EQ(thinc_face(+1, 0.0, 0.3, 0.6, 0.9, 2.0), thinc_right(0.0, 0.3, 0.6, 2.0));
+  EXPECT_DOUBLE_EQ(thinc_face(-1, 0.9, 0.6, 0.3, 0.0, t), thinc_left(0.6, 0.3, 0.0, t));
+  EXPECT_DOUBLE_EQ(thinc_face(+1, 0.0, 0.3, 0.6, 0.9, t), thinc_right(0.0, 0.3, 0.6, t));
 }
 
 namespace {
