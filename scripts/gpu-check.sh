@@ -58,13 +58,15 @@ if [ $backend = cuda ]; then
     sed 's/^/  GPU: /'
 fi
 export PATH=$PATH:/usr/sbin:/sbin  # ldconfig
-for t in cmake c++ cc python3 tar gzip ldconfig; do
+for t in cmake python3 tar gzip ldconfig; do
   command -v $t >/dev/null || die "no $t on PATH"
 done
+cxx=$(command -v g++ || command -v c++) || die "no C++ compiler (g++ or c++) on PATH"
+command -v gcc >/dev/null || command -v cc >/dev/null || die "no C compiler (gcc or cc) on PATH"
 gen=(-G Ninja)
 command -v ninja >/dev/null || { command -v make >/dev/null && gen=(-G "Unix Makefiles"); } || die "neither ninja nor make"
 glibc=$(ldd --version 2>/dev/null | head -1 | grep -o '[0-9]*\.[0-9]*$')
-log "cmake $(cmake --version | head -1 | cut -d' ' -f3), $(c++ --version | head -1), glibc $glibc, generator ${gen[1]}$([ $backend = cuda ] && echo ", nvcc $(nvcc --version | grep -o 'release [0-9.]*' | cut -d' ' -f2)")"
+log "cmake $(cmake --version | head -1 | cut -d' ' -f3), $("$cxx" --version | head -1), glibc $glibc, generator ${gen[1]}$([ $backend = cuda ] && echo ", nvcc $(nvcc --version | grep -o 'release [0-9.]*' | cut -d' ' -f2)")"
 [ "$(printf '%s\n' 2.36 "$glibc" | sort -V | head -1)" = 2.36 ] || die "the kit's Debian 12 libraries need glibc >= 2.36 (have $glibc)"
 ls "$kit"/kokkos-*.tar.gz "$kit"/prefix.tar.gz >/dev/null 2>&1 || die "no kit in $kit: run scripts/gpu-prepare.sh on a CPU machine first"
 
@@ -115,7 +117,7 @@ if [[ $phases == *" kokkos "* ]]; then
     kopts+=(-DKokkos_ENABLE_CUDA=ON "-DKokkos_ARCH_${ARCH:-HOPPER90}=ON"
             -DCMAKE_CXX_COMPILER="$work/kokkos-src/bin/nvcc_wrapper")
   else
-    kopts+=(-DKokkos_ENABLE_OPENMP=ON -DCMAKE_CXX_COMPILER=c++)
+    kopts+=(-DKokkos_ENABLE_OPENMP=ON -DCMAKE_CXX_COMPILER="$cxx")
   fi
   log "Kokkos $(basename "$tarball" .tar.gz): cmake ${kopts[*]}"
   cmake -S "$work/kokkos-src" -B "$work/kokkos-build-$backend" "${gen[@]}" "${kopts[@]}" > "$work/kokkos-configure.log" 2>&1 ||
@@ -213,16 +215,16 @@ fi
 total=$(( $(date +%s) - t0 ))
 summary="phases (s):"
 for p in kokkos build test harness; do [ -n "${took[$p]:-}" ] && summary+=" $p ${took[$p]}"; done
-log "$summary; total $total s$([ $total -gt 600 ] && echo ' (OVER the 10-minute budget)')"
-if [ -n "${out:-}" ]; then
-  cp "$logfile" "$out/gpu-check.log"
-  copy=${COPY_TO:-${OUT:-}}
-  if [ -n "$copy" ] && [ -d "$copy" ] && [ "$(realpath "$copy")" != "$(realpath "$out")" ]; then
-    cp "$out"/*.json "$out"/report.md "$out"/gpu-check.log "$copy"/ 2>/dev/null
-    cp "$work"/ctest.log "$copy"/ 2>/dev/null
-    log "results also copied to $copy"
-  fi
-  log "results in ${out#"$repo"/}"
-fi
+log "$summary; total $total s$([ $backend = cuda ] && [ $total -gt 600 ] && echo ' (OVER the 10-minute budget)')"
+copy=${COPY_TO:-${OUT:-}}
+[ -n "${out:-}" ] || copy=
+[ -n "$copy" ] && { [ ! -d "$copy" ] || [ "$(realpath "$copy")" = "$(realpath "$out")" ]; } && copy=
+[ -n "${out:-}" ] && log "results and this log in ${out#"$repo"/}${copy:+, copied to $copy}"
 [ $status = 0 ] && log "PASSED" || log "FAILED (see above)"
+if [ -n "${out:-}" ]; then
+  sleep 1  # let tee write the last lines
+  cp "$logfile" "$out/gpu-check.log"
+  # the workplace's device machine returns at most 8 files from $OUT
+  [ -n "$copy" ] && cp "$out"/*.json "$out"/report.md "$out"/gpu-check.log "$work"/ctest.log "$copy"/ 2>/dev/null
+fi
 exit $status
