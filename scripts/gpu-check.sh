@@ -136,10 +136,9 @@ if [[ $phases == *" build "* ]]; then
   phase_start build
   sopts=(-DCMAKE_BUILD_TYPE=Release -DKokkos_ROOT="$kroot" "-DCMAKE_PREFIX_PATH=$P;$L/cmake"
          -DMPI_C_COMPILER="$P/bin/mpicc" -DMPIEXEC_EXECUTABLE="$P/bin/mpiexec"
-         -DHDF5_C_COMPILER_EXECUTABLE="$P/bin/h5pcc"
-         # Open MPI 4's mpi.h pulls in its C++ bindings (libmpi_cxx), which
-         # softflow does not use and the kit leaves out
-         "-DCMAKE_CXX_FLAGS=-DOMPI_SKIP_MPICXX -DMPICH_SKIP_MPICXX")
+         -DHDF5_C_COMPILER_EXECUTABLE="$P/bin/h5pcc")
+  # (Open MPI 4's C++ bindings, which the kit leaves out, are kept out of the
+  # build by softflow's CMakeLists: OMPI_SKIP_MPICXX)
   [ $backend = cuda ] && sopts+=(-DCMAKE_CXX_COMPILER="$kroot/bin/nvcc_wrapper")
   log "softflow: cmake ${sopts[*]}"
   rm -f "$build/CMakeCache.txt"  # configure afresh (objects already built stay valid)
