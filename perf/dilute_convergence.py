@@ -3,7 +3,8 @@
 speed against error.
 
   perf/dilute_convergence.py run [--set conv|speed|all] [--only NAME,...] [--threads N]
-  perf/dilute_convergence.py report     # -> perf/results/dilute_convergence.{md,csv,png}
+  perf/dilute_convergence.py report     # -> perf/results/dilute_convergence.{md,csv},
+                                        #    dilute_speed_error.{csv,png}
 
 The case (issue 12): one neo-Hookean sphere (r = 1) at the centre of a
 16r x 16r x 16r box, walls 8r from it moving at -+8 (gamma = 1), Re = 0.1
@@ -203,20 +204,24 @@ def cmd_report(_):
              "Theory: shared/spec/dilute_theory.csv (unbounded). Tolerances of the issue: T and"
              " inclination within 5% of the theory, [mu] and N1 within 10%.", "",
              "## Convergence (THINC phi)", "",
-             "| Ca | K | quantity | 4 ppr | 6 ppr | 8 ppr | observed order | Richardson | theory | "
-             "Richardson vs theory | within |", "|" + "---|" * 11]
+             "The three finest resolutions run of 3, 4, 6 and 8 points per radius (ppr) give the observed"
+             " order and the Richardson value (its error bar: the size of the extrapolation, combined with"
+             " twice the finest run's standard error).", "",
+             "| Ca | K | quantity | 3 ppr | 4 ppr | 6 ppr | 8 ppr | observed order | Richardson | theory | "
+             "Richardson vs theory | within |", "|" + "---|" * 12]
     csv_rows = []
     for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
-        m = [measure((ca, k, "thinc", p)) for p in (4, 6, 8)]
+        m = {p: measure((ca, k, "thinc", p)) for p in (3, 4, 6, 8)}
+        use = [p for p in (3, 4, 6, 8) if m[p]][-3:]
         th = theory(ca, k)
         for key, label, tol in QUANT:
-            vals = [x["q"][key] if x else None for x in m]
-            cells = [f"{v[0]:.4f} ± {v[1]:.4f}" if v else "-" for v in vals]
-            if None in vals:
+            cells = [f"{m[p]['q'][key][0]:.4f} ± {m[p]['q'][key][1]:.4f}" if m[p] else "-" for p in (3, 4, 6, 8)]
+            if len(use) < 3:
                 lines.append(f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) + " | - | - | "
                              f"{th[key]:.4f} | - | - |")
                 continue
-            h = [1 / 4, 1 / 6, 1 / 8]
+            vals = [m[p]["q"][key] for p in use]
+            h = [1 / p for p in use]
             f = [v[0] for v in vals]
             p = observed_order(h, f)
             fin, err = richardson(h, f, p)
@@ -229,7 +234,8 @@ def cmd_report(_):
                          f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) +
                          f" | unclear | {fin:.4f} ± {err:.4f} (p = 2) | {th[key]:.4f} | {100 * rel:+.1f}% | "
                          f"{'yes' if ok else 'NO'} ({100 * tol:g}%) |")
-            csv_rows.append({"Ca": ca, "K": k, "quantity": key, "f4": f[0], "f6": f[1], "f8": f[2],
+            csv_rows.append({"Ca": ca, "K": k, "quantity": key, "ppr": "/".join(map(str, use)),
+                             "f_coarse": f[0], "f_mid": f[1], "f_fine": f[2],
                              "order": p, "richardson": fin, "richardson_err": err, "theory": th[key]})
     # speed against error
     lines += ["", "## Speed against error (Ca = 0.2, K = 1)", "",
@@ -239,13 +245,15 @@ def cmd_report(_):
               "| phi scheme | ppr | steps | wall s / strain | T | err T vs theory | err T vs Richardson | [mu] | "
               "err [mu] vs theory | err [mu] vs Richardson |", "|" + "---|" * 10]
     th = theory(0.2, 1)
-    conv = [measure((0.2, 1, "thinc", p)) for p in (4, 6, 8)]
+    conv = {p: measure((0.2, 1, "thinc", p)) for p in (3, 4, 6, 8)}
+    use = [p for p in (3, 4, 6, 8) if conv[p]][-3:]
     rich = {}
-    if None not in conv:
+    if len(use) == 3:
+        h = [1 / p for p in use]
         for key in ("T", "intrinsic"):
-            f = [x["q"][key][0] for x in conv]
-            rich[key] = richardson([1 / 4, 1 / 6, 1 / 8], f, observed_order([1 / 4, 1 / 6, 1 / 8], f))[0]
-    pts = []
+            f = [conv[p]["q"][key][0] for p in use]
+            rich[key] = richardson(h, f, observed_order(h, f))[0]
+    pts, speed_rows = [], []
     for scheme in ("thinc", "weno5"):
         for ppr in (3, 4, 6, 8):
             x = measure((0.2, 1, scheme, ppr))
@@ -258,9 +266,10 @@ def cmd_report(_):
             pts.append((scheme, ppr, x["wall_per_strain"], eT, emu, rT, rmu))
             lines.append(f"| {scheme} | {ppr} | {x['steps']} | {x['wall_per_strain']:.1f} | {T:.4f} | "
                          f"{100 * eT:.1f}% | {100 * rT:.1f}% | {mu:.3f} | {100 * emu:.1f}% | {100 * rmu:.1f}% |")
-            csv_rows.append({"Ca": 0.2, "K": 1, "quantity": f"speed_{scheme}_r{ppr}", "f4": T, "f6": mu,
-                             "f8": x["wall_per_strain"], "order": None, "richardson": None,
-                             "richardson_err": None, "theory": None})
+            speed_rows.append({"scheme": scheme, "ppr": ppr, "steps": x["steps"],
+                               "wall_s_per_strain": x["wall_per_strain"], "T": T, "intrinsic": mu,
+                               "err_T_theory": eT, "err_T_richardson": rT, "err_mu_theory": emu,
+                               "err_mu_richardson": rmu})
     cheap = [p for p in pts if p[6] <= 0.05] if rich else []
     if cheap:
         best = min(cheap, key=lambda p: p[2])
@@ -271,12 +280,14 @@ def cmd_report(_):
     with open(md + ".tmp", "w") as fh:
         fh.write("\n".join(lines) + "\n")
     os.replace(md + ".tmp", md)
-    if csv_rows:
-        path = os.path.join(RESULTS, "dilute_convergence.csv")
+    for rows, name in ((csv_rows, "dilute_convergence.csv"), (speed_rows, "dilute_speed_error.csv")):
+        if not rows:
+            continue
+        path = os.path.join(RESULTS, name)
         with open(path + ".tmp", "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(csv_rows[0]))
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
             w.writeheader()
-            w.writerows(csv_rows)
+            w.writerows(rows)
         os.replace(path + ".tmp", path)
     if pts:
         plot(pts)
