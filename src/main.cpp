@@ -7,6 +7,7 @@
 
 #include "output.hpp"
 #include "run.hpp"
+#include "run_guard.hpp"
 
 namespace {
 
@@ -71,6 +72,10 @@ int run(int argc, char** argv, int rank, int size) {
     softflow::run_case(cfg, MPI_COMM_WORLD, std::cout);
   } catch (const softflow::InputError& e) {
     return fail(rank, e.what());
+  } catch (const softflow::RunFailure& e) {
+    // every rank stops here together: the run went bad (exit 3, not bad input)
+    fail(rank, e.what());
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "softflow: rank " << rank << ": " << e.what() << std::endl;
     MPI_Abort(MPI_COMM_WORLD, 1);
