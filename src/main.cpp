@@ -8,6 +8,7 @@
 #include "output.hpp"
 #include "run.hpp"
 #include "run_guard.hpp"
+#include "shared_paths.hpp"
 
 namespace {
 
@@ -49,8 +50,11 @@ int run(int argc, char** argv, int rank, int size) {
 
   softflow::Config cfg;
   try {
+    softflow::check_shared_path("case file", case_file);
     cfg = softflow::load_config(case_file, overrides);
     if (!restart.empty()) cfg.restart = restart;
+    softflow::check_shared_path("output folder", cfg.output.dir);
+    softflow::check_shared_path("restart file", cfg.restart);
     softflow::resolve_rank_grid(cfg, size);
   } catch (const softflow::InputError& e) {
     return fail(rank, e.what());
