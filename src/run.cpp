@@ -149,8 +149,9 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   std::string last_checkpoint = restarted ? cfg.restart + " (step " + std::to_string(solver.step) + ")" : "";
   auto fail = [&](const std::string& what) {
     throw RunFailure(what + "; " +
-                     (last_checkpoint.empty() ? std::string("no checkpoint was written")
-                                              : "the last good checkpoint, " + last_checkpoint + ", is kept"));
+                     (last_checkpoint.empty()
+                          ? std::string("no checkpoint was written")
+                          : "the last good checkpoint, " + last_checkpoint + ", is kept"));
   };
   // nothing is written from a state with a non-finite value in it
   auto check_finite = [&]() {
@@ -172,7 +173,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   auto last_checkpoint_time = t0;
   auto wall_checkpoint_due = [&]() {
     if (checkpoint_seconds <= 0) return false;
-    int due = std::chrono::duration<double>(clock::now() - last_checkpoint_time).count() >= checkpoint_seconds;
+    int due =
+        std::chrono::duration<double>(clock::now() - last_checkpoint_time).count() >= checkpoint_seconds;
     MPI_Bcast(&due, 1, MPI_INT, 0, solver.decomposition().comm);
     return due != 0;
   };
@@ -208,8 +210,9 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
     } else if (wall_checkpoint_due()) {
       checkpoint();
       last_checkpoint_time = clock::now();
-      if (root) log << "checkpoint at step " << solver.step << " (every " << oc.checkpoint_minutes
-                    << " min of wall time)" << std::endl;
+      if (root)
+        log << "checkpoint at step " << solver.step << " (every " << oc.checkpoint_minutes
+            << " min of wall time)" << std::endl;
     }
     if (root && oc.progress_every && solver.step % oc.progress_every == 0) {
       Kokkos::fence("progress");

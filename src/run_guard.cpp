@@ -20,9 +20,9 @@ void StepGuard::check(long step, double strain, double dt, DtLimit lim) {
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
     const double median = v[v.size() / 2];
     if (dt < ratio * median) {
-      m << "the time step collapsed at step " << step << " (strain " << strain << "): dt = " << dt << " from the "
-        << to_string(lim) << " limit, below " << ratio << " x the median " << median << " of the last "
-        << recent_.size() << " steps";
+      m << "the time step collapsed at step " << step << " (strain " << strain << "): dt = " << dt
+        << " from the " << to_string(lim) << " limit, below " << ratio << " x the median " << median
+        << " of the last " << recent_.size() << " steps";
       throw RunFailure(m.str());
     }
   }

@@ -78,11 +78,12 @@ TEST(RunGuard, CollapsingStepStopsTheRun) {
   const std::string msg = run_until_failure(c, [](FlowSolver& s) {
     if (s.step < 25) return;
     FlowState& st = s.state();
-    par_for("test_blow_up", s.grid().all(), KOKKOS_LAMBDA(int i, int j, int k) {
-      st.u(i, j, k) *= 4;
-      st.v(i, j, k) *= 4;
-      st.w(i, j, k) *= 4;
-    });
+    par_for(
+        "test_blow_up", s.grid().all(), KOKKOS_LAMBDA(int i, int j, int k) {
+          st.u(i, j, k) *= 4;
+          st.v(i, j, k) *= 4;
+          st.w(i, j, k) *= 4;
+        });
   });
   ASSERT_FALSE(msg.empty()) << "the run did not stop";
   if (world_rank() == 0) std::printf("  %s\n", msg.c_str());
@@ -105,8 +106,9 @@ TEST(RunGuard, NonFiniteFieldNeverReachesTheCheckpoint) {
     FlowState& st = s.state();
     const int n = Grid::ng + 1;
     const double nan = std::nan("");
-    par_for("test_nan", Range3{n, n + 1, n, n + 1, n, n + 1},
-            KOKKOS_LAMBDA(int i, int j, int k) { st.u(i, j, k) = nan; });
+    par_for(
+        "test_nan", Range3{n, n + 1, n, n + 1, n, n + 1},
+        KOKKOS_LAMBDA(int i, int j, int k) { st.u(i, j, k) = nan; });
   });
   ASSERT_FALSE(msg.empty()) << "the run did not stop";
   if (world_rank() == 0) std::printf("  %s\n", msg.c_str());
