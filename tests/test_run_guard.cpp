@@ -119,3 +119,22 @@ TEST(RunGuard, NonFiniteFieldNeverReachesTheCheckpoint) {
   EXPECT_NE(msg.find(dir + "/checkpoint.h5 (step 20), is kept"), std::string::npos) << msg;
   EXPECT_EQ(checkpoint_step(dir + "/checkpoint.h5"), 20);
 }
+
+// checkpoints by wall time: with a tiny interval one is written after every
+// step, so at step 4 the checkpoint on disk is step 3's
+TEST(RunGuard, CheckpointsByWallTime) {
+  const std::string dir = "run_guard_wall_np" + std::to_string(world_size());
+  fresh_dirs({dir});
+  const Config c = couette_case(12, 12, 12,
+                                {"time.end_time=0.1", "output.dir=\"" + dir + "\"", "output.progress_every=0",
+                                 "output.checkpoint_every=0", "output.checkpoint_minutes=1e-9"});
+  std::ostringstream log;
+  double on_disk_at_4 = -1;
+  run_case(c, MPI_COMM_WORLD, log, [&](FlowSolver& s) {
+    if (s.step == 4) on_disk_at_4 = checkpoint_step(dir + "/checkpoint.h5");
+  });
+  EXPECT_EQ(on_disk_at_4, 3);
+  if (world_rank() == 0)
+    EXPECT_NE(log.str().find("checkpoint at step 3 (every 1e-09 min of wall time)"), std::string::npos)
+        << log.str();
+}
