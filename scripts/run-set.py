@@ -9,7 +9,8 @@ interrupted, and collects the run summaries into one table.
 
 Each case is cases/NAME.toml (the reference set, 16 points per radius) with
 the grid scaled to --ppr points per radius, run to --strain strain units into
-OUT/NAME/. A case whose summary.json reached the strain is skipped; one with
+OUT/NAME/ (OUT relative to the folder run-set is called from, or absolute;
+one the toolchain root cannot see stops it before any run). A case whose summary.json reached the strain is skipped; one with
 a checkpoint.h5 is restarted from it (checkpoints every 200 steps). --box
 replaces the box (in radii; the particle count follows Phi, the wall speed
 follows the gap so that gamma, Re and Ca stay those of the case). Progress lines
@@ -222,7 +223,14 @@ def main():
     args = ap.parse_args()
     ref = reference_cases()
     names = select(args.cases, ref)
-    os.makedirs(os.path.join(ROOT, args.out), exist_ok=True)
+    # --out is relative to the caller's folder (or absolute): resolved before
+    # the chdir, and checked visible inside the toolchain root before any run
+    args.out = os.path.abspath(args.out)
+    if not args.collect_only:
+        rc = subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "check", args.out]).returncode
+        if rc != 0:
+            sys.exit(rc)
+    os.makedirs(args.out, exist_ok=True)
     os.chdir(ROOT)
     if not args.collect_only:
         subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "setup"], check=True)

@@ -10,12 +10,21 @@
 #
 # Usage (sourced by the other scripts, or run directly):
 #   scripts/toolchain.sh setup          build the root if it is missing
-#   scripts/toolchain.sh run CMD...     run CMD inside the root, in the repo
+#   scripts/toolchain.sh run CMD...     run CMD inside the root, in the caller's folder
+#   scripts/toolchain.sh check PATH...  exit 2 with a message naming the first
+#                                       PATH the root cannot see
+# Paths: the host's non-system top-level folders (/work, /tmp, /root, /home,
+# ...) appear at their own paths inside the root, and this repository also at
+# /src. CMD starts in the caller's folder (or its /src twin inside this
+# repository); a caller's folder the root cannot see stops the run with a
+# message. Inside, SOFTFLOW_REPO is where the repository is and
+# SOFTFLOW_SHARED_DIRS lists the shared folders (softflow refuses a case
+# file, output folder or checkpoint outside them: it would be the root's own).
 # Environment: SOFTFLOW_ROOT (default /var/cache/softflow/trixie-v1).
 set -euo pipefail
 
 SOFTFLOW_ROOT=${SOFTFLOW_ROOT:-/var/cache/softflow/trixie-v1}
-REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd -P)
 MIRROR=http://deb.debian.org/debian
 PACKAGES=(g++ cmake ninja-build make libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
   hdf5-tools libfftw3-dev libfftw3-mpi-dev libgtest-dev libbenchmark-dev
@@ -48,8 +57,9 @@ mount_system() {
 # not part of the operating system. Inside the root they appear at the same
 # absolute paths, so a case file, --out or --restart given as /tmp/x, ~/x or
 # relative to the caller's folder means the same file inside as outside.
-# The OS folders (/usr, /etc, /var, ...) are the root's own.
-SYSTEM_DIRS=" bin boot dev etc lib lib32 lib64 libx32 lost+found proc run sbin sys usr var "
+# The OS folders (/usr, /etc, /var, ...) are the root's own; /src is this
+# repository's.
+SYSTEM_DIRS=" bin boot dev etc lib lib32 lib64 libx32 lost+found proc run sbin sys usr var src "
 user_dirs() {
   local d
   for d in /*/; do
@@ -60,18 +70,53 @@ user_dirs() {
   done
 }
 
+# Where absolute host path $1 is inside the root: the same path under a
+# shared folder, /src/... inside this repository; nothing (status 1) else.
+in_root_path() {
+  local p=$1 d
+  while read -r d; do
+    [ -n "$d" ] || continue
+    case "$p/" in "$d"/*) echo "$p"; return 0 ;; esac
+  done <<<"$SOFTFLOW_USER_DIRS"
+  case "$p/" in "$REPO"/*) echo "/src${p#"$REPO"}"; return 0 ;; esac
+  return 1
+}
+
+# `check PATH...`: each PATH (relative to the caller's folder, or absolute)
+# must be visible inside the root
+check_paths() {
+  local p abs
+  for p in "$@"; do
+    abs=$(realpath -m -- "$p")
+    if ! in_root_path "$abs" >/dev/null; then
+      echo "softflow: error: '$p' ($abs) cannot be reached from inside the toolchain root:" \
+        "only $(echo $SOFTFLOW_USER_DIRS | sed 's/ /, /g') and this repository are shared;" \
+        "use a path under one of them" >&2
+      return 2
+    fi
+  done
+}
+
 # Runs CMD inside the root, in a private mount namespace of its own: the
 # bind mounts exist for this invocation only, so any number of invocations
 # from any number of clones run side by side without seeing each other's
 # mounts (the old scheme rebound one shared /src to the newest caller and
-# broke the runs in flight). The repository is at /src and at its own path;
-# the command starts in the caller's folder when the root can see it, else
-# in /src.
+# broke the runs in flight). The repository is at /src and at its own path
+# (when that lies in a shared folder); the command starts in the caller's
+# folder, which the root must be able to see.
 in_root() {
-  local r=$SOFTFLOW_ROOT here
-  here=$(pwd -P)
+  local r=$SOFTFLOW_ROOT here repo_in shared
+  here=$(in_root_path "$(pwd -P)") || {
+    echo "softflow: error: the current folder '$(pwd -P)' cannot be reached from inside the toolchain" \
+      "root: only $(echo $SOFTFLOW_USER_DIRS | sed 's/ /, /g') and this repository are shared;" \
+      "run from a folder under one of them" >&2
+    return 2
+  }
+  repo_in=$(in_root_path "$REPO")
+  # /proc, /sys and /dev are the host's too (bound below)
+  shared=$(echo $SOFTFLOW_USER_DIRS /src /proc /sys /dev | tr ' ' :)
   # shellcheck disable=SC2016
-  unshare --mount --propagation private -- /bin/bash -c '
+  SOFTFLOW_REPO_IN=$repo_in SOFTFLOW_SHARED_DIRS=$shared unshare --mount --propagation private -- /bin/bash -c '
     set -e
     r=$1 repo=$2 here=$3; shift 3
     for d in proc sys dev; do mkdir -p "$r/$d"; mount --rbind "/$d" "$r/$d"; done
@@ -83,13 +128,13 @@ in_root() {
 " $SOFTFLOW_USER_DIRS)
     mkdir -p "$r/src"
     mount --bind "$repo" "$r/src"
-    [ -d "$r$here" ] && [ "$(stat -c %d:%i "$r$here" 2>/dev/null)" = "$(stat -c %d:%i "$here")" ] || here=/src
     exec chroot "$r" /usr/bin/env -i HOME=/root PATH=/usr/local/bin:/usr/bin:/bin \
       LANG=C.UTF-8 TERM="${TERM:-dumb}" CI="${CI:-}" \
       OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
       OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_btl=self,sm \
       OMP_PROC_BIND=false OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" \
-      SOFTFLOW_BUILD="${SOFTFLOW_BUILD:-build}" SOFTFLOW_REPO="$repo" \
+      SOFTFLOW_BUILD="${SOFTFLOW_BUILD:-build}" SOFTFLOW_REPO="$SOFTFLOW_REPO_IN" \
+      SOFTFLOW_SHARED_DIRS="$SOFTFLOW_SHARED_DIRS" SOFTFLOW_EXE="${SOFTFLOW_EXE:-}" \
       /bin/bash -c '"'"'cd "$0" && "$@"'"'"' "$here" "$@"' \
     bash "$r" "$REPO" "$here" "$@"
 }
@@ -152,5 +197,10 @@ case "${1:-}" in
     export SOFTFLOW_USER_DIRS
     in_root "$@"
     ;;
-  *) echo "usage: $0 setup | run CMD..." >&2; exit 2 ;;
+  check)
+    shift
+    SOFTFLOW_USER_DIRS=$(user_dirs)
+    check_paths "$@"
+    ;;
+  *) echo "usage: $0 setup | run CMD... | check PATH..." >&2; exit 2 ;;
 esac

@@ -208,6 +208,7 @@ Config parse_config(const std::string& text, const std::string& name,
     r.read("series_every", c.output.series_every, false);
     r.read("fields_every", c.output.fields_every, false);
     r.read("checkpoint_every", c.output.checkpoint_every, false);
+    r.read("checkpoint_minutes", c.output.checkpoint_minutes, false);
     r.read("profiles_every", c.output.profiles_every, false);
     r.read("average_from_strain", c.output.average_from_strain, false);
     if (c.output.dir.empty()) throw InputError("'output.dir' must not be empty");
@@ -215,6 +216,7 @@ Config parse_config(const std::string& text, const std::string& name,
     r.non_negative("series_every", c.output.series_every);
     r.non_negative("fields_every", c.output.fields_every);
     r.non_negative("checkpoint_every", c.output.checkpoint_every);
+    r.non_negative("checkpoint_minutes", c.output.checkpoint_minutes);
     r.non_negative("profiles_every", c.output.profiles_every);
     r.finish();
   }

@@ -79,6 +79,7 @@ struct OutputConfig {
   long series_every = 10;         // steps between time-series rows (0: none)
   Real fields_every = 0;          // strain units between field snapshots (0: only at the end)
   long checkpoint_every = 0;      // steps between checkpoints (0: only at the end)
+  Real checkpoint_minutes = 30;   // also a checkpoint after this much wall time (0: no)
   long profiles_every = 100;      // steps between profile samples in profiles_series.csv (0: none)
   Real average_from_strain = -1;  // start of the time averages (< 0: detected, see src/averaging.hpp)
 };

@@ -7,6 +7,8 @@
 
 #include "output.hpp"
 #include "run.hpp"
+#include "run_guard.hpp"
+#include "shared_paths.hpp"
 
 namespace {
 
@@ -48,8 +50,11 @@ int run(int argc, char** argv, int rank, int size) {
 
   softflow::Config cfg;
   try {
+    softflow::check_shared_path("case file", case_file);
     cfg = softflow::load_config(case_file, overrides);
     if (!restart.empty()) cfg.restart = restart;
+    softflow::check_shared_path("output folder", cfg.output.dir);
+    softflow::check_shared_path("restart file", cfg.restart);
     softflow::resolve_rank_grid(cfg, size);
   } catch (const softflow::InputError& e) {
     return fail(rank, e.what());
@@ -71,6 +76,10 @@ int run(int argc, char** argv, int rank, int size) {
     softflow::run_case(cfg, MPI_COMM_WORLD, std::cout);
   } catch (const softflow::InputError& e) {
     return fail(rank, e.what());
+  } catch (const softflow::RunFailure& e) {
+    // every rank stops here together: the run went bad (exit 3, not bad input)
+    fail(rank, e.what());
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "softflow: rank " << rank << ": " << e.what() << std::endl;
     MPI_Abort(MPI_COMM_WORLD, 1);

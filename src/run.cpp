@@ -10,6 +10,7 @@
 
 #include "output.hpp"
 #include "run_averages.hpp"
+#include "run_guard.hpp"
 #include "version.hpp"
 
 namespace softflow {
@@ -79,7 +80,7 @@ void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r
 
 }  // namespace
 
-RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
+RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const AfterStep& after_step) {
   FlowSolver solver(cfg, comm);
   const bool root = solver.decomposition().is_root();
   const bool restarted = !cfg.restart.empty();
@@ -143,27 +144,76 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
   auto last = t0;
   long last_step = solver.step;
   Real dt = 0;
+  DtLimit lim = DtLimit::end_time;
+  // the last good checkpoint, named when the run goes bad
+  std::string last_checkpoint = restarted ? cfg.restart + " (step " + std::to_string(solver.step) + ")" : "";
+  auto fail = [&](const std::string& what) {
+    throw RunFailure(what + "; " +
+                     (last_checkpoint.empty()
+                          ? std::string("no checkpoint was written")
+                          : "the last good checkpoint, " + last_checkpoint + ", is kept"));
+  };
+  // nothing is written from a state with a non-finite value in it
+  auto check_finite = [&]() {
+    if (const long bad = non_finite_values(solver)) {
+      std::ostringstream m;
+      m.precision(4);
+      m << "the solution is no longer finite at step " << solver.step << " (strain " << solver.time * gamma
+        << ", last dt " << dt << " from the " << to_string(lim) << " limit): " << bad << " non-finite values";
+      fail(m.str());
+    }
+  };
+  auto checkpoint = [&]() {
+    check_finite();
+    out.checkpoint(particles());
+    last_checkpoint = oc.dir + "/checkpoint.h5 (step " + std::to_string(solver.step) + ")";
+  };
+  // wall-time checkpoints: rank 0's clock decides for all ranks
+  const double checkpoint_seconds = oc.checkpoint_minutes * 60;
+  auto last_checkpoint_time = t0;
+  auto wall_checkpoint_due = [&]() {
+    if (checkpoint_seconds <= 0) return false;
+    int due =
+        std::chrono::duration<double>(clock::now() - last_checkpoint_time).count() >= checkpoint_seconds;
+    MPI_Bcast(&due, 1, MPI_INT, 0, solver.decomposition().comm);
+    return due != 0;
+  };
+  StepGuard guard;
   while (solver.time < t_end * (1 - 1e-14) && (cfg.time.max_steps == 0 || res.steps < cfg.time.max_steps)) {
-    DtLimit lim;
     dt = solver.stable_dt(&lim);
     if (solver.time + dt > t_end) {
       dt = t_end - solver.time;
       lim = DtLimit::end_time;
     }
+    try {
+      guard.check(solver.step + 1, solver.time * gamma, dt, lim);
+    } catch (const RunFailure& e) {
+      fail(e.what());
+    }
     solver.advance(dt);
     ++res.steps;
+    if (after_step) after_step(solver);
     if (!std::isfinite(solver.time) || (oc.series_every && solver.step % oc.series_every == 0)) {
       FlowScalars f = diag.scalars();
+      if (!std::isfinite(f.kinetic_energy)) check_finite();
       series_rows(f, dt);
-      if (!std::isfinite(f.kinetic_energy))
-        throw std::runtime_error("the solution is no longer finite at step " + std::to_string(solver.step));
     }
     if (solver.time >= next_snap * (1 - 1e-12)) {
+      check_finite();
       out.snapshot();
       next_snap += snap_dt;
     }
     if (oc.profiles_every && solver.step % oc.profiles_every == 0) out.profile_sample(diag.profiles());
-    if (oc.checkpoint_every && solver.step % oc.checkpoint_every == 0) out.checkpoint(particles());
+    if (oc.checkpoint_every && solver.step % oc.checkpoint_every == 0) {
+      checkpoint();
+      last_checkpoint_time = clock::now();
+    } else if (wall_checkpoint_due()) {
+      checkpoint();
+      last_checkpoint_time = clock::now();
+      if (root)
+        log << "checkpoint at step " << solver.step << " (every " << oc.checkpoint_minutes
+            << " min of wall time)" << std::endl;
+    }
     if (root && oc.progress_every && solver.step % oc.progress_every == 0) {
       Kokkos::fence("progress");
       const auto now = clock::now();
@@ -186,8 +236,9 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log) {
   if (finished && res.steps > 0 && (!oc.series_every || solver.step % oc.series_every)) series_rows(f, dt);
   if (finished && res.steps > 0 && oc.profiles_every && solver.step % oc.profiles_every)
     out.profile_sample(diag.profiles());
+  check_finite();
   out.snapshot();
-  out.checkpoint(particles());
+  checkpoint();
   write_summary(solver, f, res, oc.dir, run_averages(solver, out), particles().size());
   if (root) {
     log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds

@@ -45,7 +45,13 @@ inline Policy3 policy(const Range3& r) { return Policy3({r.ib, r.jb, r.kb}, {r.i
 // Kokkos' host MDRange calls the functor point by point through its tile
 // loops, which the compiler does not vectorise (measured in perf/README.md).
 // GPUs keep the MDRange: one thread per cell, x fastest for coalescing.
+// SOFTFLOW_HOST_MDRANGE (the CMake option of that name) makes the host take
+// the GPUs' MDRange path too, so that a CPU machine runs and tests it.
+#if defined(SOFTFLOW_HOST_MDRANGE)
+constexpr bool host_lines = false;
+#else
 constexpr bool host_lines = std::is_same_v<ExecSpace, Kokkos::DefaultHostExecutionSpace>;
+#endif
 
 // The inner loop carries the parallel_for contract (no cell depends on
 // another cell's result in the same loop) to the vectoriser; without it the
