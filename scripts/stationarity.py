@@ -4,6 +4,7 @@ issue 12, from a run folder's series.csv, particles.csv and summary.json.
 
   scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--md OUT.md]
   scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ...
+  (a run without a summary.json yet, or one that blew up: DIR@LXxLYxLZ gives its box)
 
 check, per run:
   - mu (mu/mu_f; for a dilute run, Phi < 0.01, the intrinsic viscosity
@@ -43,18 +44,32 @@ def batch_mean(v, batches=10):
     return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
 
 
+BOX = None  # --box: the box of runs without a summary.json yet
+
+
 class Run:
     def __init__(self, folder):
+        # DIR@LXxLYxLZ: the box of a run without a summary.json (still going, or blown up)
+        box = None
+        if "@" in folder:
+            folder, b = folder.split("@")
+            box = [float(x) for x in b.split("x")]
         self.folder = folder
         self.name = os.path.basename(os.path.normpath(folder))
         self.series = list(csv.DictReader(open(os.path.join(folder, "series.csv"))))
         self.particles = list(csv.DictReader(open(os.path.join(folder, "particles.csv"))))
-        s = json.load(open(os.path.join(folder, "summary.json")))
-        self.box = s["case"]["box"]
-        self.grid = s["case"]["grid"]
-        self.wall_seconds = s["performance"]["wall_seconds"]
+        try:
+            s = json.load(open(os.path.join(folder, "summary.json")))
+            self.box = s["case"]["box"]
+            self.grid = s["case"]["grid"]
+            self.wall_seconds = s["performance"]["wall_seconds"]
+        except OSError:
+            # a run still going: its box from run-set's table of boxes by case name
+            if not (box or BOX):
+                raise
+            self.box, self.grid, self.wall_seconds = box or BOX, ["?"], math.nan
         vol = self.box[0] * self.box[1] * self.box[2]
-        self.phi = float(self.series[-1]["solid_volume"]) / vol
+        self.phi = float(self.series[0]["solid_volume"]) / vol  # conserved; a blown-up run's last row is not
         self.dilute = self.phi < 0.01
         self.mu_name = "[mu]" if self.dilute else "mu/mu_f"
 
@@ -153,9 +168,15 @@ def figure(out, pairs):
             ax[0][c].set_ylabel(run.mu_name)
         ax[1][c].set_ylabel("T")
         ax[1][c].set_xlabel("strain")
-        # the scale of the data after the start-up, so that drift is visible
+        # the scale of the data after the start-up, so that drift is visible;
+        # values beyond 10x the new scheme's median (a run that blew up) are
+        # left out of the range
         for a in ax[:, c]:
-            ys = [y for line in a.get_lines() for x, y in zip(line.get_xdata(), line.get_ydata()) if x >= 2]
+            lines = a.get_lines()
+            new = sorted(y for x, y in zip(lines[0].get_xdata(), lines[0].get_ydata()) if x >= 2)
+            ref = abs(new[len(new) // 2]) if new else 1
+            ys = [y for line in lines for x, y in zip(line.get_xdata(), line.get_ydata())
+                  if x >= 2 and math.isfinite(y) and abs(y) <= 10 * ref]
             if ys:
                 lo, hi = min(ys), max(ys)
                 pad = 0.08 * (hi - lo) + 1e-9
@@ -177,7 +198,11 @@ def main():
     f = sub.add_parser("figure")
     f.add_argument("out")
     f.add_argument("pairs", nargs="+")
+    ap.add_argument("--box", help="LX,LY,LZ of runs still going (no summary.json yet)")
     a = ap.parse_args()
+    global BOX
+    if a.box:
+        BOX = [float(x) for x in a.box.split(",")]
     if a.cmd == "figure":
         figure(os.path.abspath(a.out), a.pairs)
         return

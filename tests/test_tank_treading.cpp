@@ -9,8 +9,8 @@
 // before the projection (the bound). The intrinsic viscosity [mu]
 // averaged over strain [2, 4) and [4, 6) differs by less than 3%: the damped
 // shape oscillation (period about 12 strain units) moves it by about 1%
-// between such windows. Measured when written: default numerics [mu] 2.769
-// and 2.786 (+0.6%), det B in [0.9989, 1.0021], phi < 0.1 cells 3.6% of the
+// between such windows. Measured when written: default numerics [mu] 2.768
+// and 2.784 (+0.6%), det B in [0.9989, 1.0021], phi < 0.1 cells 3.6% of the
 // elastic shear stress; old numerics [mu] 3.67 and 4.75 (+29%), det B in
 // [0.86, 6.1], phi < 0.1 cells 44%.
 #include <gtest/gtest.h>
