@@ -35,6 +35,8 @@ import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from stationarity import batch_mean  # noqa: E402  (the 10-batch-means standard error)
 OUT = os.path.join(ROOT, "output", "dilute")
 RESULTS = os.path.join(ROOT, "perf", "results")
 THEORY = os.path.join(ROOT, "..", "shared", "spec", "dilute_theory.csv")
@@ -119,17 +121,6 @@ def run_one(run, threads):
     print(f"dilute_convergence: running {name}", flush=True)
     with open(os.path.join(OUT, name + ".log"), "a") as log:
         subprocess.run(cmd, cwd=ROOT, check=True, stdout=log, stderr=subprocess.STDOUT)
-
-
-def batch_mean(v, batches=10):
-    m = sum(v) / len(v)
-    n = len(v) // batches
-    if n < 2:
-        return m, math.nan
-    skip = len(v) - n * batches
-    bm = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
-    mb = sum(bm) / batches
-    return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
 
 
 def measure(run):
