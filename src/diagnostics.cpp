@@ -5,6 +5,7 @@
 
 #include "../kernels/mixture_stress.hpp"
 #include "../kernels/projection.hpp"
+#include "../kernels/solid_extension.hpp"
 
 namespace softflow {
 
@@ -239,23 +240,12 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
       "diagnostics_phi_max", g.interior(),
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a = Kokkos::fmax(a, q.phi(i, j, k)); },
       Kokkos::Max<Real>(pmax));
-  auto detb = KOKKOS_LAMBDA(int i, int j, int k) {
-    const Real xx = q.b0(i, j, k), xy = q.b1(i, j, k), xz = q.b2(i, j, k), yy = q.b3(i, j, k),
-               yz = q.b4(i, j, k), zz = q.b5(i, j, k);
-    return xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-  };
-  par_reduce(
-      "diagnostics_detb_min", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
-        if (q.phi(i, j, k) > 0.5) a = Kokkos::fmin(a, detb(i, j, k));
-      },
-      Kokkos::Min<Real>(dmin));
-  par_reduce(
-      "diagnostics_detb_max", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
-        if (q.phi(i, j, k) > 0.5) a = Kokkos::fmax(a, detb(i, j, k));
-      },
-      Kokkos::Max<Real>(dmax));
+  {
+    // the same range the det B projection measures (kernels/solid_extension.hpp)
+    const Kokkos::MinMaxScalar<Real> mm = det_b_range(s_.solid()->fields(), g.interior());
+    dmin = mm.min_val;
+    dmax = mm.max_val;
+  }
   Real shear[2] = {0, 0};  // phi B_xy over phi < 0.1 cells, over all cells
   par_reduce(
       "diagnostics_elastic_lowphi", g.interior(),
