@@ -44,19 +44,23 @@ KOKKOS_INLINE_FUNCTION Real weno_z(const Field3& q, Real vel, int i, int j,
                     q(i, j, k + 3));
 }
 
-KOKKOS_INLINE_FUNCTION Real thinc_x(const Field3& q, Real vel, const Thinc& t, int i, int j, int k) {
-  return thinc_face(vel, q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k), t);
+// sdx = the stage's time step over dx: the face's Courant number is |vel| sdx
+KOKKOS_INLINE_FUNCTION Real thinc_x(const Field3& q, Real vel, const Thinc& t, Real sdx, int i, int j, int k) {
+  return thinc_face(vel, q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k), t, Kokkos::fabs(vel) * sdx);
 }
-KOKKOS_INLINE_FUNCTION Real thinc_y(const Field3& q, Real vel, const Thinc& t, int i, int j, int k) {
-  return thinc_face(vel, q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k), t);
+KOKKOS_INLINE_FUNCTION Real thinc_y(const Field3& q, Real vel, const Thinc& t, Real sdy, int i, int j, int k) {
+  return thinc_face(vel, q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k), t, Kokkos::fabs(vel) * sdy);
 }
-KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, const Thinc& t, int i, int j, int k) {
-  return thinc_face(vel, q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2), t);
+KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, const Thinc& t, Real sdz, int i, int j, int k) {
+  return thinc_face(vel, q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2), t, Kokkos::fabs(vel) * sdz);
 }
 
-// phi's face values: THINC with steepness beta, or WENO5 (beta <= 0)
+// phi's face values: THINC with steepness beta, or WENO5 (beta <= 0).
+// stage_dt: the time this RK3 stage advances phi by ((gamma + zeta) dt, the
+// stage's share of the step), which sets THINC's swept region at each face.
 struct PhiScheme {
   Real thinc_beta = 0;
+  Real stage_dt = 0;
   bool thinc() const { return thinc_beta > 0; }
 };
 
@@ -118,11 +122,12 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
     const Field3 q = f.q[m], r = rhs.q[m];
     if (m == 0 && scheme.thinc()) {
       const Thinc t = make_thinc(scheme.thinc_beta);
+      const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
       par_for(
           "solid_transport_flux_thinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-            fx(i, j, k) = u(i, j, k) * thinc_x(q, u(i, j, k), t, i, j, k);
-            fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), t, i, j, k);
-            fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), t, i, j, k);
+            fx(i, j, k) = u(i, j, k) * thinc_x(q, u(i, j, k), t, sdx, i, j, k);
+            fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), t, sdy, i, j, k);
+            fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), t, sdz, i, j, k);
           });
     } else {
       par_for(

@@ -26,13 +26,14 @@ inline Thinc make_thinc(Real beta) { return {beta, std::tanh(beta), std::cosh(be
 
 struct ThincStep {
   Real qmin, dq, theta, A;  // A = -tanh(beta X0)
+  Real z;                   // theta (2C - 1), C the cell's share of the jump: B = exp(beta z)
   bool interface;           // false: use the cell value
 };
 
 // The step of cell c from its left neighbour qm, value qc and right neighbour qp
 KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, const Thinc& t) {
   constexpr Real eps = 1e-20;
-  ThincStep s{0, 0, 0, 0, false};
+  ThincStep s{0, 0, 0, 0, 0, false};
   const Real lo = qm < qp ? qm : qp, hi = qm < qp ? qp : qm;
   s.qmin = lo;
   s.dq = hi - lo;
@@ -41,7 +42,8 @@ KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, const Thi
   if (!s.interface) return s;
   s.theta = qp >= qm ? Real(1) : Real(-1);
   const Real C = (qc - lo + eps) / (s.dq + eps);
-  const Real B = Kokkos::exp(s.theta * t.beta * (2 * C - 1));
+  s.z = s.theta * (2 * C - 1);
+  const Real B = Kokkos::exp(t.beta * s.z);
   s.A = (B / t.cosh_beta - 1) / t.tanh_beta;
   return s;
 }
@@ -61,14 +63,44 @@ KOKKOS_INLINE_FUNCTION Real thinc_left(Real qm, Real qc, Real qp, const Thinc& t
   return s.qmin + s.dq / 2 * (1 + s.theta * s.A);
 }
 
-// Upwind THINC value at face c+1/2 from the four cells c-1..c+2 and the face
-// velocity: the right face of cell c for vel >= 0, else the left face of c+1.
-// The cells are chosen first and the step evaluated once (no branch around
-// the arithmetic, as in weno5_face).
-KOKKOS_INLINE_FUNCTION Real thinc_face(Real vel, Real qm1, Real q0, Real qp1, Real qp2, const Thinc& t) {
+// Mean of the step over the part of cell c that crosses its right face in a
+// step of Courant number nu = |u| dt / dx, X in [1 - nu, 1]: THINC's own
+// flux (Xiao, Honma & Kono 2005). The point value at X = 1 (nu -> 0) is
+// what a method-of-lines flux would take, but it lets a cell receive more
+// than it can hold: at beta = 3.5 and Courant number 0.4 a square wave
+// over- and undershoots by 0.7% a step, and the clip that keeps phi in
+// [0, 1] then moves volume from the front of the wave to its back, so it
+// lags by a fixed distance at every resolution (L1 error 0.05 at 32, 64 and
+// 128 cells, tests/test_thinc.cpp). The swept mean gives a cell's downwind
+// face no more than the cell holds there, so the scheme stays bounded and
+// first order at any Courant number up to 1.
+// Closed form: with z = theta (2C - 1) (so B = exp(beta z)), P = e^{beta (1 +
+// z)} - 1 and Q = 1 - e^{beta (z - 1)} (both > 0, as |z| < 1), w = P / (P + Q)
+// and s = beta nu,
+//   mean of tanh(beta (X - X0)) over [1 - nu, 1] = -ln(w e^{-s} + (1 - w) e^{s}) / s,
+// which tends to the point value 2w - 1 as s -> 0. Written with expm1 and
+// log1p it loses no digits for small nu, nor for cells that are all but full
+// or empty (where X0, and cosh(beta) + A sinh(beta), lose all of theirs).
+KOKKOS_INLINE_FUNCTION Real thinc_right_swept(Real qm, Real qc, Real qp, const Thinc& t, Real nu) {
+  const ThincStep st = thinc_step(qm, qc, qp, t);
+  if (!st.interface) return qc;
+  const Real P = Kokkos::expm1(t.beta * (1 + st.z)), Q = -Kokkos::expm1(t.beta * (st.z - 1));
+  const Real w = P / (P + Q);
+  const Real s = t.beta * (nu < 1 ? nu : Real(1));
+  const Real mean_tanh =
+      s > Real(1e-300) ? -Kokkos::log1p(w * Kokkos::expm1(-s) + (1 - w) * Kokkos::expm1(s)) / s : 2 * w - 1;
+  return st.qmin + st.dq / 2 * (1 + st.theta * mean_tanh);
+}
+
+// Upwind THINC flux value at face c+1/2 from the four cells c-1..c+2, the
+// face velocity and the Courant number of the stage at that face: the swept
+// mean at the right face of cell c for vel >= 0, else at the left face of
+// c+1. The cells are chosen first and the step evaluated once (no branch
+// around the arithmetic, as in weno5_face).
+KOKKOS_INLINE_FUNCTION Real thinc_face(Real vel, Real qm1, Real q0, Real qp1, Real qp2, const Thinc& t, Real nu) {
   const bool left = vel >= 0;
   // mirrored for vel < 0: the right face of the mirrored cell c+1
-  return thinc_right(left ? qm1 : qp2, left ? q0 : qp1, left ? qp1 : q0, t);
+  return thinc_right_swept(left ? qm1 : qp2, left ? q0 : qp1, left ? qp1 : q0, t, nu);
 }
 
 }  // namespace softflow

@@ -47,7 +47,7 @@ struct ParticleConfig {
   Real viscosity_ratio = 1;          // K = mu_s / mu_f
   // the solid phase's numerics (kernels/thinc.hpp, kernels/solid_extension.hpp)
   std::string phi_scheme = "thinc";  // phi's face values: "thinc" (sharp) or "weno5" (the reference study's)
-  Real thinc_beta = 2.0;             // THINC steepness: the interface spans about 2 / beta cells
+  Real thinc_beta = 3.5;             // THINC steepness: the interface spans about 2 / beta cells
   bool b_extension = true;           // B in 0 < phi < 0.5 cells from the solid side (else its own equation)
   bool unimodular_b = true;          // B <- B / det(B)^(1/3) after each stage
 };

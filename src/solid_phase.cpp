@@ -216,7 +216,9 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
   // WENO stencil); a dilute case's support is much smaller than the region,
   // which has to hold a whole step's growth
   const Range3 active = track_region_ ? grown_range(phi_support(g_, q_.phi()), 3, region_) : region_;
-  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, phi_scheme_);
+  PhiScheme scheme = phi_scheme_;
+  scheme.stage_dt = gdt + zdt;  // solid_rk3_update: q += gdt r_now + zdt r_before
+  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme);
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_);
   phi_bounded_redistribution(
       q_, [this](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm()); },
