@@ -45,14 +45,20 @@ KOKKOS_INLINE_FUNCTION Real weno_z(const Field3& q, Real vel, int i, int j,
 }
 
 // sdx = the stage's time step over dx: the face's Courant number is |vel| sdx
-KOKKOS_INLINE_FUNCTION Real thinc_x(const Field3& q, Real vel, const Thinc& t, Real sdx, int i, int j, int k) {
-  return thinc_face(vel, q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k), t, Kokkos::fabs(vel) * sdx);
+KOKKOS_INLINE_FUNCTION Real thinc_x(const Field3& q, Real vel, const Thinc& t, Real sdx, int i, int j,
+                                    int k) {
+  return thinc_face(vel, q(i - 1, j, k), q(i, j, k), q(i + 1, j, k), q(i + 2, j, k), t,
+                    Kokkos::fabs(vel) * sdx);
 }
-KOKKOS_INLINE_FUNCTION Real thinc_y(const Field3& q, Real vel, const Thinc& t, Real sdy, int i, int j, int k) {
-  return thinc_face(vel, q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k), t, Kokkos::fabs(vel) * sdy);
+KOKKOS_INLINE_FUNCTION Real thinc_y(const Field3& q, Real vel, const Thinc& t, Real sdy, int i, int j,
+                                    int k) {
+  return thinc_face(vel, q(i, j - 1, k), q(i, j, k), q(i, j + 1, k), q(i, j + 2, k), t,
+                    Kokkos::fabs(vel) * sdy);
 }
-KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, const Thinc& t, Real sdz, int i, int j, int k) {
-  return thinc_face(vel, q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2), t, Kokkos::fabs(vel) * sdz);
+KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, const Thinc& t, Real sdz, int i, int j,
+                                    int k) {
+  return thinc_face(vel, q(i, j, k - 1), q(i, j, k), q(i, j, k + 1), q(i, j, k + 2), t,
+                    Kokkos::fabs(vel) * sdz);
 }
 
 // phi's face values: THINC with steepness beta, or WENO5 (beta <= 0).

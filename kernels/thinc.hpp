@@ -25,15 +25,15 @@ struct Thinc {
 inline Thinc make_thinc(Real beta) { return {beta, std::tanh(beta), std::cosh(beta)}; }
 
 struct ThincStep {
-  Real qmin, dq, theta, A;  // A = -tanh(beta X0)
-  Real z;                   // theta (2C - 1), C the cell's share of the jump: B = exp(beta z)
-  bool interface;           // false: use the cell value
+  Real qmin, dq, theta;
+  Real z;          // theta (2C - 1), C the cell's share of the jump: B = exp(beta z)
+  bool interface;  // false: use the cell value
 };
 
 // The step of cell c from its left neighbour qm, value qc and right neighbour qp
 KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, const Thinc& t) {
   constexpr Real eps = 1e-20;
-  ThincStep s{0, 0, 0, 0, 0, false};
+  ThincStep s{0, 0, 0, 0, false};
   const Real lo = qm < qp ? qm : qp, hi = qm < qp ? qp : qm;
   s.qmin = lo;
   s.dq = hi - lo;
@@ -43,9 +43,13 @@ KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, const Thi
   s.theta = qp >= qm ? Real(1) : Real(-1);
   const Real C = (qc - lo + eps) / (s.dq + eps);
   s.z = s.theta * (2 * C - 1);
-  const Real B = Kokkos::exp(t.beta * s.z);
-  s.A = (B / t.cosh_beta - 1) / t.tanh_beta;
   return s;
+}
+
+// A = -tanh(beta X0) of an interface step (the point values need it; the
+// swept mean does not, and skips its exp)
+KOKKOS_INLINE_FUNCTION Real thinc_A(const ThincStep& s, const Thinc& t) {
+  return (Kokkos::exp(t.beta * s.z) / t.cosh_beta - 1) / t.tanh_beta;
 }
 
 // Value at the right face (X = 1) of cell c
@@ -53,14 +57,15 @@ KOKKOS_INLINE_FUNCTION Real thinc_right(Real qm, Real qc, Real qp, const Thinc& 
   const ThincStep s = thinc_step(qm, qc, qp, t);
   if (!s.interface) return qc;
   const Real tb = t.tanh_beta;
-  return s.qmin + s.dq / 2 * (1 + s.theta * (tb + s.A) / (1 + s.A * tb));
+  const Real A = thinc_A(s, t);
+  return s.qmin + s.dq / 2 * (1 + s.theta * (tb + A) / (1 + A * tb));
 }
 
 // Value at the left face (X = 0) of cell c
 KOKKOS_INLINE_FUNCTION Real thinc_left(Real qm, Real qc, Real qp, const Thinc& t) {
   const ThincStep s = thinc_step(qm, qc, qp, t);
   if (!s.interface) return qc;
-  return s.qmin + s.dq / 2 * (1 + s.theta * s.A);
+  return s.qmin + s.dq / 2 * (1 + s.theta * thinc_A(s, t));
 }
 
 // Mean of the step over the part of cell c that crosses its right face in a
@@ -97,7 +102,8 @@ KOKKOS_INLINE_FUNCTION Real thinc_right_swept(Real qm, Real qc, Real qp, const T
 // mean at the right face of cell c for vel >= 0, else at the left face of
 // c+1. The cells are chosen first and the step evaluated once (no branch
 // around the arithmetic, as in weno5_face).
-KOKKOS_INLINE_FUNCTION Real thinc_face(Real vel, Real qm1, Real q0, Real qp1, Real qp2, const Thinc& t, Real nu) {
+KOKKOS_INLINE_FUNCTION Real thinc_face(Real vel, Real qm1, Real q0, Real qp1, Real qp2, const Thinc& t,
+                                       Real nu) {
   const bool left = vel >= 0;
   // mirrored for vel < 0: the right face of the mirrored cell c+1
   return thinc_right_swept(left ? qm1 : qp2, left ? q0 : qp1, left ? qp1 : q0, t, nu);

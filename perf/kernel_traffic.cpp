@@ -50,7 +50,10 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       // kernels/solid_extension.hpp: B in the interface band from the solid
       // side (reads a 5x5x5 block of phi and B, from cache: counted once),
       // det B's range, the projection and its shear sum
-      {"solid_b_extension", {7, 6, "r: phi,B(6); w: B(6) of band cells", Domain::solid}},
+      {"solid_near_x", {1, 1, "r: phi; w: mask pass", Domain::solid}},
+      {"solid_near_y", {1, 1, "r: mask pass; w: mask pass", Domain::solid}},
+      {"solid_near_z", {1, 1, "r: mask pass; w: near-solid mask", Domain::solid}},
+      {"solid_b_extension", {8, 6, "r: phi,mask,B(6); w: B(6) of band cells", Domain::solid}},
       {"solid_b_det_range", {7, 0, "r: phi,B(6)", Domain::solid}},
       {"solid_b_unimodular", {7, 6, "r: phi,B(6); w: B(6)", Domain::solid}},
       {"solid_b_shear_sum", {2, 0, "r: phi,Bxy", Domain::solid}},

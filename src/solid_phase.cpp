@@ -230,7 +230,12 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
 }
 
 void SolidPhase::constrain_b() {
-  if (extend_b_) extend_b_from_solid(q_, region_);
+  if (extend_b_) {
+    // the transport's face-flux scratch is free between stages: the mask's
+    // two passes use two of its arrays
+    mark_near_solid(q_, region_, flux_.x, flux_.y);
+    extend_b_from_solid(q_, region_, flux_.x);
+  }
   Real st[4];
   if (unimodular_b_) {
     const UnimodularStats u = project_b_unimodular(q_, region_);
