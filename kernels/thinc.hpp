@@ -31,7 +31,7 @@ struct ThincStep {
 };
 
 // The step of cell c from its left neighbour qm, value qc and right neighbour qp
-KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp, const Thinc& t) {
+KOKKOS_INLINE_FUNCTION ThincStep thinc_step(Real qm, Real qc, Real qp) {
   constexpr Real eps = 1e-20;
   ThincStep s{0, 0, 0, 0, false};
   const Real lo = qm < qp ? qm : qp, hi = qm < qp ? qp : qm;
@@ -54,7 +54,7 @@ KOKKOS_INLINE_FUNCTION Real thinc_A(const ThincStep& s, const Thinc& t) {
 
 // Value at the right face (X = 1) of cell c
 KOKKOS_INLINE_FUNCTION Real thinc_right(Real qm, Real qc, Real qp, const Thinc& t) {
-  const ThincStep s = thinc_step(qm, qc, qp, t);
+  const ThincStep s = thinc_step(qm, qc, qp);
   if (!s.interface) return qc;
   const Real tb = t.tanh_beta;
   const Real A = thinc_A(s, t);
@@ -63,7 +63,7 @@ KOKKOS_INLINE_FUNCTION Real thinc_right(Real qm, Real qc, Real qp, const Thinc& 
 
 // Value at the left face (X = 0) of cell c
 KOKKOS_INLINE_FUNCTION Real thinc_left(Real qm, Real qc, Real qp, const Thinc& t) {
-  const ThincStep s = thinc_step(qm, qc, qp, t);
+  const ThincStep s = thinc_step(qm, qc, qp);
   if (!s.interface) return qc;
   return s.qmin + s.dq / 2 * (1 + s.theta * thinc_A(s, t));
 }
@@ -87,7 +87,7 @@ KOKKOS_INLINE_FUNCTION Real thinc_left(Real qm, Real qc, Real qp, const Thinc& t
 // log1p it loses no digits for small nu, nor for cells that are all but full
 // or empty (where X0, and cosh(beta) + A sinh(beta), lose all of theirs).
 KOKKOS_INLINE_FUNCTION Real thinc_right_swept(Real qm, Real qc, Real qp, const Thinc& t, Real nu) {
-  const ThincStep st = thinc_step(qm, qc, qp, t);
+  const ThincStep st = thinc_step(qm, qc, qp);
   if (!st.interface) return qc;
   const Real P = Kokkos::expm1(t.beta * (1 + st.z)), Q = -Kokkos::expm1(t.beta * (st.z - 1));
   const Real w = P / (P + Q);

@@ -15,7 +15,7 @@ namespace {
 // the step's centre X0 follows from A = -tanh(beta X0)
 double step_at(double qm, double qc, double qp, double beta, double X) {
   const Thinc t = make_thinc(beta);
-  const ThincStep s = thinc_step(qm, qc, qp, t);
+  const ThincStep s = thinc_step(qm, qc, qp);
   const double x0 = std::atanh(-thinc_A(s, t)) / beta;
   return s.qmin + s.dq / 2 * (1 + s.theta * std::tanh(beta * (X - x0)));
 }
@@ -65,7 +65,7 @@ TEST(Thinc, SweptMeanIsTheStepsMeanOverTheSweptPartAndKeepsAnEulerStepBounded) {
           // against the midpoint rule over [1 - nu, 1] on 20000 points (the
           // closed form avoids X0, which the midpoint rule needs; skipped where
           // atanh(-A) is not representable)
-          const ThincStep st = thinc_step(qm, qc, qp, t);
+          const ThincStep st = thinc_step(qm, qc, qp);
           if (std::fabs(thinc_A(st, t)) < 1 - 1e-6) {
             double avg = 0;
             const int n = 20000;
