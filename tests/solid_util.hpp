@@ -57,4 +57,17 @@ double max_error(const Grid& g, const Field3& a, const F& f) {
   return global_max(m);
 }
 
+// Interface cells (0.01 < phi < 0.99) over the interior, summed over the ranks
+inline double interface_cells(const Grid& g, const Field3& phi) {
+  double n = 0;
+  par_reduce(
+      "test_interface_cells", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& a) {
+        const double p = phi(i, j, k);
+        a += (p > 0.01 && p < 0.99) ? 1.0 : 0.0;
+      },
+      Kokkos::Sum<double>(n));
+  return global_sum(n);
+}
+
 }  // namespace softflow::test

@@ -199,14 +199,7 @@ double local_l1_difference(const Grid& g, const Field3& phi, const Field3& phi0)
 // Interface thickness in cells: the volume of the cells with 0.01 < phi < 0.99
 // over the surface area (sum |grad phi| dV, central differences) times dx
 double interface_thickness(const Grid& g, const Field3& phi) {
-  double band = 0, area = 0;
-  par_reduce(
-      "test_band", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, double& a) {
-        const double p = phi(i, j, k);
-        a += (p > 0.01 && p < 0.99) ? 1.0 : 0.0;
-      },
-      Kokkos::Sum<double>(band));
+  double area = 0;
   par_reduce(
       "test_area", g.interior(),
       KOKKOS_LAMBDA(int i, int j, int k, double& a) {
@@ -216,7 +209,7 @@ double interface_thickness(const Grid& g, const Field3& phi) {
         a += Kokkos::sqrt(gx * gx + gy * gy + gz * gz);
       },
       Kokkos::Sum<double>(area));
-  return global_sum(band) / global_sum(area) / g.dx;
+  return interface_cells(g, phi) / global_sum(area) / g.dx;
 }
 
 struct LeVequeResult {

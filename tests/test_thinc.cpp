@@ -107,17 +107,6 @@ void fill_square(const Grid& g, const Field3& phi, double s) {
         phi(i, j, k) = in / g.dx;
       });
 }
-double interface_cells(const Grid& g, const Field3& phi) {
-  double n = 0;
-  par_reduce(
-      "test_interface_cells", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, double& a) {
-        const double p = phi(i, j, k);
-        a += (p > 0.01 && p < 0.99) ? 1.0 : 0.0;
-      },
-      Kokkos::Sum<double>(n));
-  return global_sum(n);
-}
 struct SquareWaveResult {
   double l1, volume_drift, phi_min, phi_max, band;  // band: interface cells per interface per x line
 };
