@@ -36,10 +36,6 @@ namespace softflow {
 
 constexpr Real phi_solid = 0.5;  // at or above: B evolves by its own equation
 
-KOKKOS_INLINE_FUNCTION Real det_sym(Real xx, Real xy, Real xz, Real yy, Real yz, Real zz) {
-  return xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-}
-
 // near(i, j, k) = 1 on the cells of `region` with a cell of phi >= phi_solid
 // in the 5x5x5 block around them, else 0: three separable passes of width 5
 // (15 reads a cell instead of the block's 125; most cells of the region are

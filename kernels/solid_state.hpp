@@ -16,6 +16,11 @@ KOKKOS_INLINE_FUNCTION int sym_index(int a, int b) {
   return idx[a][b];
 }
 
+// det of the symmetric matrix with these six components
+KOKKOS_INLINE_FUNCTION Real det_sym(Real xx, Real xy, Real xz, Real yy, Real yz, Real zz) {
+  return xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+}
+
 struct SolidFields {
   Field3 q[n_solid_fields];  // q[0] = phi, q[1 + m] = B_m
   SolidFields() = default;

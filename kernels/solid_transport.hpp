@@ -19,6 +19,7 @@
 #include <functional>
 
 #include "flow_state.hpp"
+#include "solid_b_fallback.hpp"
 #include "solid_state.hpp"
 #include "velocity_gradient.hpp"
 #include "thinc.hpp"
@@ -168,17 +169,30 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
 // q += gdt * now + zdt * before for the seven fields; then B is reset to I
 // where phi < phi_fluid_cut: in pure fluid B has no meaning (its stress is
 // multiplied by phi) and, left alone in sheared fluid, would grow without
-// bound and leak into the interface through the WENO stencils.
+// bound and leak into the interface through the WENO stencils. With
+// check.on, a cell whose new B is not admissible keeps its stage-start B and
+// is flagged for the first-order fallback (kernels/solid_b_fallback.hpp).
 inline void solid_rk3_update(const SolidFields& f, const SolidFields& now, const SolidFields& before,
-                             Real gdt, Real zdt, const Range3& region) {
+                             Real gdt, Real zdt, const Range3& region, const BCheck& check = {}) {
   const SolidViews q(f), a(now), b(before);
+  const bool on = check.on;
+  const Real det_tol = check.det_tol, phi_min = check.phi_min;
+  const Field3 flag = check.flag;
   par_for(
       "solid_rk3_update", region, KOKKOS_LAMBDA(int i, int j, int k) {
-        for (int m = 0; m < n_solid_fields; ++m)
-          q.field(m)(i, j, k) += gdt * a.field(m)(i, j, k) + zdt * b.field(m)(i, j, k);
+        q.phi(i, j, k) += gdt * a.phi(i, j, k) + zdt * b.phi(i, j, k);
+        Real bn[6];
+        for (int m = 0; m < 6; ++m) bn[m] = q.B(m, i, j, k) + (gdt * a.B(m, i, j, k) + zdt * b.B(m, i, j, k));
+        Real state = b_updated;
         if (q.phi(i, j, k) < phi_fluid_cut) {
-          for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+          for (int m = 0; m < 6; ++m) bn[m] = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+          state = b_reset;
+        } else if (on && q.phi(i, j, k) >= phi_min && !b_admissible(bn, det_tol)) {
+          state = b_troubled;
         }
+        if (on) flag(i, j, k) = state;
+        if (state != b_troubled)
+          for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = bn[m];
       });
 }
 

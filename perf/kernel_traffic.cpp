@@ -43,7 +43,15 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       {"solid_transport_flux_thinc", {4, 3, "r: u,v,w, phi; w: its x, y, z face fluxes", Domain::solid}},
       {"solid_transport_divergence", {3, 1, "r: the three face fluxes; w: the field's rhs", Domain::solid}},
       {"solid_transport_source", {16, 6, "r: u,v,w,phi,B(6),rhs B(6); w: rhs B(6)", Domain::solid}},
-      {"solid_rk3_update", {21, 7, "r: phi,B(6), rhs_now(7), rhs_before(7); w: phi,B(6)", Domain::solid}},
+      {"solid_rk3_update",
+       {21, 8, "r: phi,B(6), rhs_now(7), rhs_before(7); w: phi,B(6), fallback flag", Domain::solid}},
+      // kernels/solid_b_fallback.hpp: the troubled-cell count runs every
+      // stage; the fallback itself only where a cell is troubled (rare: its
+      // per-cell traffic counts the troubled cell's flag only)
+      {"solid_b_troubled_count", {1, 0, "r: fallback flag", Domain::solid}},
+      {"solid_b_fallback", {1, 0, "r: fallback flag (+ B, rhs of the few troubled cells)", Domain::solid}},
+      {"solid_b_fallback_swap",
+       {1, 0, "r: fallback flag (+ B, rhs of the few troubled cells)", Domain::solid}},
       {"solid_phi_excess", {1, 0, "r: phi", Domain::solid}},
       {"solid_phi_interface_weight", {1, 0, "r: phi", Domain::solid}},
       {"solid_phi_redistribute", {1, 1, "r: phi; w: phi", Domain::solid}},

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Cost of the solid phase's numerics (issue 12): the dense scene
 # (cases/phi011_ca02.toml at 64 x 40 x 64, Phi = 0.11, Ca = 0.2, implicit)
-# with the old numerics (WENO5 phi, B by its own equation everywhere, no
-# det B projection) and with the default ones (THINC phi, B extended from the
-# solid side, det B projected), alternated ROUNDS times in one run so both
+# with the old numerics (WENO5 phi, B by its own equation everywhere, no B
+# fallback, no det B projection) and with the default ones (THINC phi, B
+# fallback, B extended from the solid side, det B projected), alternated ROUNDS times in one run so both
 # see the same machine load; then the ratio of the median step times.
 #   perf/solid_cost.sh            # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
 # Environment: ROUNDS (default 3), OMP_NUM_THREADS (default all cores), BIN.
@@ -14,7 +14,8 @@ rounds=${ROUNDS:-3}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(nproc)}
 out=perf/results/solid_cost
 mkdir -p "$out"
-old=(--set particles.phi_scheme=weno5 --set particles.b_extension=false --set particles.unimodular_b=false)
+old=(--set particles.phi_scheme=weno5 --set particles.b_extension=false --set particles.unimodular_b=false
+     --set particles.b_fallback=false)
 for r in $(seq 1 "$rounds"); do
   for v in old new; do
     extra=()
@@ -37,7 +38,7 @@ new = [step("new", r) for r in range(1, rounds + 1)]
 ratios = [n / o for n, o in zip(new, old)]
 lines = ["# Cost of the solid phase's numerics (perf/solid_cost.sh)", "",
          "Dense scene (cases/phi011_ca02.toml, 64 x 40 x 64, Phi = 0.11, Ca = 0.2, implicit), "
-         "the old numerics (WENO5 phi, no B extension, no projection) and the default ones, "
+         "the old numerics (WENO5 phi, no B fallback, no B extension, no projection) and the default ones, "
          f"alternated {rounds} times; median step seconds of each harness run.", "",
          "| round | old step (ms) | new step (ms) | new / old |", "|---|---|---|---|"]
 for r in range(rounds):

@@ -299,6 +299,11 @@ Config parse_config(const std::string& text, const std::string& name,
                          ")");
       r.read("b_extension", p.b_extension, false);
       r.read("unimodular_b", p.unimodular_b, false);
+      r.read("b_fallback", p.b_fallback, false);
+      r.read("b_fallback_det", p.b_fallback_det, false);
+      if (!(p.b_fallback_det >= 0 && p.b_fallback_det < 1))
+        throw InputError("'particles.b_fallback_det' must be in [0, 1) (got " +
+                         std::to_string(p.b_fallback_det) + ")");
     }
     r.finish();
   }

@@ -263,6 +263,9 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
   f.elastic_share_lowphi = shear[1] != 0 ? shear[0] / shear[1] : 0;
   const SolidPhase::BStats b = s_.solid()->take_b_stats();
   f.unimodular_removed = b.stages > 0 ? b.removed_sum / Real(b.stages) : 0;
+  long fallback = b.fallback_cells;
+  MPI_Allreduce(MPI_IN_PLACE, &fallback, 1, MPI_LONG, MPI_SUM, s_.decomposition().comm);
+  f.b_fallback_cells = fallback;
   MPI_Allreduce(MPI_IN_PLACE, &vol, 1, MPI_DOUBLE, MPI_SUM, c);
   MPI_Allreduce(MPI_IN_PLACE, &pmin, 1, MPI_DOUBLE, MPI_MIN, c);
   MPI_Allreduce(MPI_IN_PLACE, &pmax, 1, MPI_DOUBLE, MPI_MAX, c);

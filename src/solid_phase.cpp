@@ -31,6 +31,11 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   phi_scheme_.thinc_beta = cfg.particles.phi_scheme == "thinc" ? cfg.particles.thinc_beta : 0;
   extend_b_ = cfg.particles.b_extension;
   unimodular_b_ = cfg.particles.unimodular_b;
+  // the det test needs det B = 1 at every stage's start: only with the projection
+  b_check_.on = cfg.particles.b_fallback;
+  b_check_.det_tol = unimodular_b_ ? cfg.particles.b_fallback_det : 0;
+  b_check_.phi_min = extend_b_ ? phi_solid : phi_fluid_cut;
+  b_check_.flag = flux_.x;  // the face-flux scratch is free once the stage's fluxes are summed
 }
 
 // Elastic waves are advanced explicitly (B from the stage's starting
@@ -219,7 +224,12 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
   PhiScheme scheme = phi_scheme_;
   scheme.stage_dt = gdt + zdt;  // solid_rk3_update: q += gdt r_now + zdt r_before
   solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme);
-  solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_);
+  solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_, b_check_);
+  if (b_check_.on) {
+    const long troubled = count_troubled(b_check_, region_);
+    if (troubled > 0) b_upwind_fallback(g_, flow, q_, rhs_now_, rhs_before_, b_check_, gdt, zdt, region_);
+    b_stats_.fallback_cells += troubled;
+  }
   phi_bounded_redistribution(
       q_, [this](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm()); },
       region_);

@@ -58,12 +58,14 @@ class SolidPhase {
   Real max_stretch() const;
 
   // det B before the unimodular projection (phi > 0.5 cells; without the
-  // projection, after each stage) and the sum over stages of the share of
+  // projection, after each stage), the sum over stages of the share of
   // the solid's elastic shear stress each projection removed (signed: a
-  // bias shows as a non-zero mean), since the last call (then reset)
+  // bias shows as a non-zero mean) and the cells whose B took the
+  // first-order fallback, since the last call (then reset)
   struct BStats {
     Real det_min = 1e300, det_max = -1e300, removed_sum = 0;
     long stages = 0;
+    long fallback_cells = 0;  // cell-stages of this rank whose B took the first-order fallback
   };
   BStats take_b_stats();
 
@@ -88,6 +90,7 @@ class SolidPhase {
   std::vector<Sphere> spheres_;
   PhiScheme phi_scheme_;
   bool extend_b_, unimodular_b_;
+  BCheck b_check_;  // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
   BStats b_stats_;
   bool track_region_ = true;
   Range3 region_{}, force_region_{};

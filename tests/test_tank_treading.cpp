@@ -2,8 +2,9 @@
 // neo-Hookean sphere (Ca = 0.2, K = 1, Re = 0.1) at 4 points per radius in a
 // 8r x 6r x 8r box, from the Couette profile, to strain 6, with the default
 // solid numerics (THINC phi, B extended from the solid side, det B
-// projected). The old numerics (WENO5 phi, B by its own equation everywhere,
-// no projection) are run alongside as the control that the checks can fail.
+// projected, B's positive fallback). The old numerics (WENO5 phi, B by its
+// own equation everywhere, no projection, no fallback) are run alongside as
+// the control that the checks can fail.
 //
 // Bounds and their source. det B in phi > 0.5 cells stays in [0.97, 1.03]
 // before the projection (the bound). The intrinsic viscosity [mu]
@@ -75,8 +76,8 @@ TEST(TankTreading, SolidStaysPhysicalAndViscosityStationary) {
   EXPECT_LT(std::abs(a.mu_late / a.mu_early - 1), 0.03);
   EXPECT_LT(a.lowphi_max, 0.05);
   // the control: the old numerics break every bound in the same run
-  const TankTreading old = tank_tread(
-      {"particles.phi_scheme=weno5", "particles.b_extension=false", "particles.unimodular_b=false"});
+  const TankTreading old = tank_tread({"particles.phi_scheme=weno5", "particles.b_extension=false",
+                                       "particles.unimodular_b=false", "particles.b_fallback=false"});
   EXPECT_GT(std::max(1 - old.detb_min, old.detb_max - 1), 0.03);
   EXPECT_GT(std::abs(old.mu_late / old.mu_early - 1), 0.03);
   EXPECT_GT(old.lowphi_max, 0.05);
