@@ -133,12 +133,9 @@ inline void b_upwind_fallback(const Grid& g, const FlowState& flow, const SolidF
           for (int m = 0; m < 6; ++m)
             be[m] = e < 0 ? start(m, i, j, k) : start(m, nb[e][0], nb[e][1], nb[e][2]);
           for (int m = 0; m < 6; ++m) lin[m] += wgt * be[m];
-          const SymEigen ev = sym_eigen(be);
-          spd = spd && ev.lam[0] > 0 && ev.lam[1] > 0 && ev.lam[2] > 0;
-          if (!spd) continue;
-          const Real f[3] = {Kokkos::log(ev.lam[0]), Kokkos::log(ev.lam[1]), Kokkos::log(ev.lam[2])};
           Real lg[6];
-          sym_compose(ev, f, lg);
+          spd = spd && sym_log_positive(be, lg);
+          if (!spd) continue;
           for (int m = 0; m < 6; ++m) bn[m] += wgt * lg[m];
         }
         if (spd) {

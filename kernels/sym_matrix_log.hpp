@@ -68,12 +68,17 @@ KOKKOS_INLINE_FUNCTION void sym_compose(const SymEigen& e, const Real f[3], Real
     }
 }
 
-// log of a positive-definite matrix
-KOKKOS_INLINE_FUNCTION void sym_log(const Real b[6], Real out[6]) {
+// log of b into out if b is positive definite; false (out untouched) if not
+KOKKOS_INLINE_FUNCTION bool sym_log_positive(const Real b[6], Real out[6]) {
   const SymEigen e = sym_eigen(b);
+  if (!(e.lam[0] > 0 && e.lam[1] > 0 && e.lam[2] > 0)) return false;
   const Real f[3] = {Kokkos::log(e.lam[0]), Kokkos::log(e.lam[1]), Kokkos::log(e.lam[2])};
   sym_compose(e, f, out);
+  return true;
 }
+
+// log of a positive-definite matrix
+KOKKOS_INLINE_FUNCTION void sym_log(const Real b[6], Real out[6]) { sym_log_positive(b, out); }
 
 KOKKOS_INLINE_FUNCTION void sym_exp(const Real b[6], Real out[6]) {
   const SymEigen e = sym_eigen(b);
