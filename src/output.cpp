@@ -36,7 +36,7 @@ std::string series_header(bool solid) {
 const char* particles_header =
     "step,time,strain,count,taylor_mean,taylor_std,a_xy_mean,b_xy_mean,a_mean,b_mean,c_mean,angle_mean_deg,"
     "phi_e,"
-    "axes_scale_mean";
+    "axes_scale_mean,taylor_b_mean,angle_b_mean_deg";
 std::string profiles_header() {
   std::string h = "step,strain,row,y_centre,u_mean,phi_mean,y_face";
   for (int b = 0; b < n_budget; ++b) h += std::string(",") + budget_name(b);
@@ -110,9 +110,10 @@ void Output::series_row(const FlowScalars& f, Real dt) {
 void Output::particles_row(const std::vector<ParticleShape>& shapes) {
   const Grid& g = s_.grid();
   double n = double(shapes.size()), t = 0, t2 = 0, axy = 0, bxy = 0, a = 0, b = 0, c = 0, ang = 0, b3 = 0,
-         sc = 0;
+         sc = 0, tb = 0, angb = 0;
   for (const auto& p : shapes) {
     t += p.taylor, t2 += p.taylor * p.taylor, axy += p.a_xy, bxy += p.b_xy, sc += p.axes_scale;
+    tb += p.taylor_b, angb += p.angle_b;
     a += p.a, b += p.b, c += p.c, ang += p.angle, b3 += p.b_xy * p.b_xy * p.b_xy;
   }
   const double m = std::max(n, 1.0);
@@ -122,7 +123,8 @@ void Output::particles_row(const std::vector<ParticleShape>& shapes) {
   std::ostringstream r;
   r << std::setprecision(10) << s_.step << "," << s_.time << "," << s_.time * s_.config().shear_rate() << ","
     << shapes.size() << "," << tm << "," << ts << "," << axy / m << "," << bxy / m << "," << a / m << ","
-    << b / m << "," << c / m << "," << ang / m * 180 / M_PI << "," << phi_e << "," << sc / m;
+    << b / m << "," << c / m << "," << ang / m * 180 / M_PI << "," << phi_e << "," << sc / m << "," << tb / m
+    << "," << angb / m * 180 / M_PI;
   particles_.append(r.str());
 }
 

@@ -57,14 +57,14 @@ void ParticleTracker::update() {
   Kokkos::deep_copy(centres_, ch);
   Kokkos::deep_copy(moments_, 0.0);
   const Grid g = s_.grid();
-  auto phi = s_.solid()->fields().phi();
+  const SolidViews sv(s_.solid()->fields());
   auto c = centres_;
   auto mom = moments_;
   const Real r = s_.config().particles.radius, lx = g.lx, lz = g.lz;
   const Real cut2 = 4 * r * r;
   par_for(
       "tracker_moments", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const Real f = fraction(phi(i, j, k));
+        const Real f = fraction(sv.phi(i, j, k));
         if (f <= 0) return;
         const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
         int best = -1;
@@ -77,17 +77,31 @@ void ParticleTracker::update() {
           if (d2 < bd) bd = d2, best = m, bx = dx, by = dy, bz = dz;
         }
         if (best < 0) return;
-        const Real mv[10] = {f,           f * bx,      f * by,      f * bz,      f * bx * bx,
-                             f * bx * by, f * bx * bz, f * by * by, f * by * bz, f * bz * bz};
-        for (int q = 0; q < 10; ++q) Kokkos::atomic_add(&mom(best, q), mv[q]);
+        const Real mv[n_moments] = {f,
+                                    f * bx,
+                                    f * by,
+                                    f * bz,
+                                    f * bx * bx,
+                                    f * bx * by,
+                                    f * bx * bz,
+                                    f * by * by,
+                                    f * by * bz,
+                                    f * bz * bz,
+                                    f * sv.B(0, i, j, k),
+                                    f * sv.B(1, i, j, k),
+                                    f * sv.B(2, i, j, k),
+                                    f * sv.B(3, i, j, k),
+                                    f * sv.B(4, i, j, k),
+                                    f * sv.B(5, i, j, k)};
+        for (int e = 0; e < n_moments; ++e) Kokkos::atomic_add(&mom(best, e), mv[e]);
       });
   auto mh = Kokkos::create_mirror_view(moments_);
   Kokkos::deep_copy(mh, moments_);
-  std::vector<double> buf(mh.data(), mh.data() + 10 * n);
-  MPI_Allreduce(MPI_IN_PLACE, buf.data(), 10 * n, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
+  std::vector<double> buf(mh.data(), mh.data() + n_moments * n);
+  MPI_Allreduce(MPI_IN_PLACE, buf.data(), n_moments * n, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
   const double dv = g.dx * g.dy * g.dz;
   for (int m = 0; m < n; ++m) {
-    const double* q = &buf[10 * m];
+    const double* q = &buf[n_moments * m];
     ParticleShape& p = shapes_[m];
     if (q[0] <= 0) continue;  // lost: keep the old centroid
     const double mx = q[1] / q[0], my = q[2] / q[0], mz = q[3] / q[0];
@@ -117,6 +131,16 @@ void ParticleTracker::update() {
     p.a_xy *= p.axes_scale, p.b_xy *= p.axes_scale;
     p.taylor = (p.a_xy - p.b_xy) / (p.a_xy + p.b_xy);
     p.angle = 0.5 * std::atan2(2 * cxy, cxx - cyy);
+    // The same x-y section from the solid's own record of its deformation:
+    // a homogeneously deformed sphere is the ellipsoid x^T B^-1 x = r^2, whose
+    // second moments are (r^2 / 5) B. Where phi and B were transported
+    // consistently the two agree; a gap between them is shape drift that no
+    // elastic stress restores.
+    const double bxx = q[10] / q[0], bxy = q[11] / q[0], byy = q[13] / q[0];
+    const double btr = 0.5 * (bxx + byy), bdif = std::sqrt(0.25 * (bxx - byy) * (bxx - byy) + bxy * bxy);
+    const double ba = std::sqrt(std::max(btr + bdif, 0.0)), bb = std::sqrt(std::max(btr - bdif, 0.0));
+    p.taylor_b = ba + bb > 0 ? (ba - bb) / (ba + bb) : 0.0;
+    p.angle_b = 0.5 * std::atan2(2 * bxy, bxx - byy);
   }
 }
 

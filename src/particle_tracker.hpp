@@ -27,6 +27,9 @@ struct ParticleShape {
   double a_xy = 0, b_xy = 0;   // semi-axes of the x-y section (the x-y block of the moments)
   double taylor = 0;           // (a_xy - b_xy) / (a_xy + b_xy)
   double angle = 0;            // inclination of the x-y major axis to x, radians
+  double taylor_b = 0;         // T of the x-y section of the ellipsoid x^T <B>^-1 x = r^2, <B> the
+                               // phi-weighted mean of B over the particle's cells
+  double angle_b = 0;          // that ellipsoid's inclination, radians
 };
 
 class ParticleTracker {
@@ -41,7 +44,9 @@ class ParticleTracker {
   FlowSolver& s_;
   std::vector<ParticleShape> shapes_;
   Kokkos::View<Real* [3], Kokkos::LayoutRight, MemSpace> centres_;
-  Kokkos::View<Real* [10], Kokkos::LayoutRight, MemSpace> moments_;  // row m contiguous
+  // per particle: sum f, f x, f x x (6), f B (6); row m contiguous
+  static constexpr int n_moments = 16;
+  Kokkos::View<Real* [n_moments], Kokkos::LayoutRight, MemSpace> moments_;
 };
 
 }  // namespace softflow

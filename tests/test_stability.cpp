@@ -27,20 +27,23 @@ TEST_P(HardCase, ShortRunStaysFiniteBoundedAndConservative) {
   const int steps = 40;
   const double strain = 0.4;
   double worst_detb = 0;
+  long fallback = 0;
   for (int n = 0; implicit ? s.time * c.shear_rate() < strain : n < steps; ++n) {
     s.advance(s.stable_dt());
     if (n % 10 == 9 || implicit) {
       FlowScalars f = d.scalars();
       ASSERT_TRUE(std::isfinite(f.kinetic_energy)) << "step " << s.step;
-      worst_detb = std::max({worst_detb, std::abs(f.detb_min - 1), std::abs(f.detb_max - 1)});
+      // det B before the unimodular projection, over every stage since the last call
+      worst_detb = std::max({worst_detb, std::abs(f.detb_raw_min - 1), std::abs(f.detb_raw_max - 1)});
+      fallback += f.b_fallback_cells;
     }
   }
   const FlowScalars f = d.scalars();
   if (world_rank() == 0)
     std::printf(
-        "  %s, %s viscosity: %ld steps to strain %.3f, mu_eff %.3f, phi in [%g, %g], |det B - 1| <= %.2e, "
-        "volume drift %.1e\n",
-        name, scheme, s.step, s.time * c.shear_rate(), f.mu_eff, f.phi_min, f.phi_max, worst_detb,
+        "  %s, %s viscosity: %ld steps to strain %.3f, mu_eff %.3f, phi in [%g, %g], |det B - 1| <= %.2e "
+        "before the projection, %ld fallback cell-stages, volume drift %.1e\n",
+        name, scheme, s.step, s.time * c.shear_rate(), f.mu_eff, f.phi_min, f.phi_max, worst_detb, fallback,
         f.solid_volume / f0.solid_volume - 1);
   EXPECT_TRUE(std::isfinite(f.mu_eff));
   // phi is kept in [0, 1] exactly by the conservative redistribution
@@ -48,13 +51,16 @@ TEST_P(HardCase, ShortRunStaysFiniteBoundedAndConservative) {
   EXPECT_LE(f.phi_max, 1.0);
   // the flux form conserves solid volume to round-off
   EXPECT_NEAR(f.solid_volume / f0.solid_volume, 1.0, 1e-12);
-  // det B = 1 in an incompressible solid; at 4 points per radius the
-  // discrete transport keeps it within 5% over the 40 explicit steps
-  // (measured < 0.1%). Over strain 0.4 the drift is larger whatever the step:
-  // phi033_ca2 with the implicit scheme reaches 1.5% at dt = 0.01 and 1.9% at
-  // dt = 0.058 at strain 0.4, plus a few % in the impulsive first steps at
-  // the large dt (measured 1.1-4.5% over the four cases): bound 10%.
-  EXPECT_LT(worst_detb, implicit ? 0.10 : 0.05);
+  // det B = 1 in an incompressible solid. Read before the unimodular
+  // projection (after it det B = 1 by construction), at every RK3 stage: the
+  // issue-12 bound [0.97, 1.03]. Measured: below 6e-5 over the explicit
+  // steps, 1.4e-3 to 1.9e-2 with the implicit scheme's large steps. The
+  // first-order B fallback (kernels/solid_b_fallback.hpp) may act only there:
+  // it takes cells whose det B moved by more than 0.02 in one stage, which
+  // strain steps of 0.001 cannot do (phi033_ca2 at strain steps of 0.04 from
+  // rest: 244 cell-stages).
+  EXPECT_LT(worst_detb, 0.03);
+  if (!implicit) EXPECT_EQ(fallback, 0);
   // the projection keeps the velocity divergence-free
   EXPECT_LT(f.max_div * std::min({s.grid().dx, s.grid().dy, s.grid().dz}) / f.max_speed, 1e-12);
 }
