@@ -23,6 +23,18 @@ check, per run:
   - the solid volume stays within 1e-12 relative of its first value.
 figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
 old scheme's run of the same case) beside it.
+
+  scripts/stationarity.py shape RUN_DIR...
+
+shape: is the particles' phi shape the one their B records? For each field
+snapshot of each run, T and inclination of the x-y section from phi's
+moments (particles.csv, the tracker's) beside those of the ellipsoid
+x^T <B>^-1 x = r^2, <B> the phi-weighted mean of B over all cells (one
+particle: its own; many: their average, not the mean of per-particle values).
+A homogeneously deformed particle (the exact dilute solution) has both
+equal; phi shape errors that no elastic stress restores show as a gap.
+Runs written after particles.csv gained taylor_b_mean have the per-particle
+value at every row; this reads older runs' snapshots (needs h5py, numpy).
 """
 import argparse
 import csv
@@ -188,6 +200,28 @@ def figure(out, pairs):
     os.replace(tmp, out)
 
 
+def shape(folders):
+    import glob
+    import h5py
+    import numpy as np
+    print("| run | snapshot | strain | T (phi) | angle (phi) | T (B) | angle (B) |\n|---|---|---|---|---|---|---|")
+    for folder in folders:
+        parts = {int(r["step"]): r for r in csv.DictReader(open(os.path.join(folder, "particles.csv")))}
+        for f in sorted(glob.glob(os.path.join(folder, "fields_*.h5"))):
+            step = int(os.path.basename(f)[7:15])
+            with h5py.File(f, "r") as h:
+                phi = np.clip(np.asarray(h["phi"]), 0, 1)
+                w = phi / phi.sum()
+                bxx, bxy, byy = [float((w * np.asarray(h["B" + c])).sum()) for c in ("xx", "xy", "yy")]
+            tr, dif = 0.5 * (bxx + byy), math.sqrt(0.25 * (bxx - byy) ** 2 + bxy ** 2)
+            a, b = math.sqrt(tr + dif), math.sqrt(max(tr - dif, 0))
+            r = parts.get(step)
+            tp = f"{float(r['taylor_mean']):.4f} | {float(r['angle_mean_deg']):.1f}" if r else "- | -"
+            st = f"{float(r['strain']):.1f}" if r else "?"
+            print(f"| {os.path.basename(os.path.normpath(folder))} | {os.path.basename(f)} | {st} | {tp} | "
+                  f"{(a - b) / (a + b):.4f} | {0.5 * math.degrees(math.atan2(2 * bxy, bxx - byy)):.1f} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -198,11 +232,16 @@ def main():
     f = sub.add_parser("figure")
     f.add_argument("out")
     f.add_argument("pairs", nargs="+")
+    h = sub.add_parser("shape")
+    h.add_argument("runs", nargs="+")
     ap.add_argument("--box", help="LX,LY,LZ of runs still going (no summary.json yet)")
     a = ap.parse_args()
     global BOX
     if a.box:
         BOX = [float(x) for x in a.box.split(",")]
+    if a.cmd == "shape":
+        shape(a.runs)
+        return
     if a.cmd == "figure":
         figure(os.path.abspath(a.out), a.pairs)
         return
