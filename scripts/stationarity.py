@@ -12,7 +12,9 @@ check, per run:
     averaged over the strain windows [w0, w1) and [w1, w2); each with its
     10-batch-means standard error. They agree when the difference is within
     2 standard errors of the difference, sqrt(se1^2 + se2^2), or within 1%
-    of the later mean, whichever is larger.
+    of the later mean, whichever is larger. Where particles.csv has
+    taylor_b_mean, T of the ellipsoid B records is compared the same way and
+    reported beside (not a pass condition).
   - det B over the cells with phi > 0.5 stays in [0.97, 1.03] at every row
     (the detb_raw_* columns: before the unimodular projection, over every
     RK3 stage since the previous row); and the share of the solid's elastic
@@ -92,9 +94,11 @@ class Run:
         m = float(r["mu_eff"])
         return (m - 1) / self.phi if self.dilute else m
 
-    def window(self, lo, hi):
+    def window(self, lo, hi, shape_col="taylor_mean"):
+        """mu and T (from phi's moments, or with shape_col="taylor_b_mean"
+        from the B ellipsoid) over [lo, hi), each with its standard error."""
         mu = [self.mu(r) for r in self.series if lo <= float(r["strain"]) < hi]
-        t = [float(r["taylor_mean"]) for r in self.particles if lo <= float(r["strain"]) < hi]
+        t = [float(r[shape_col]) for r in self.particles if lo <= float(r["strain"]) < hi]
         if len(mu) < 20 or len(t) < 20:
             return None
         return batch_mean(mu), batch_mean(t)
@@ -118,6 +122,13 @@ def check(run, windows):
         a_t, tol_t = agree(t1, t2)
         out.update(mu1=mu1, mu2=mu2, t1=t1, t2=t2, tol_mu=tol_mu, tol_t=tol_t, mu_ok=a_mu, t_ok=a_t)
         ok = ok and a_mu and a_t
+    # T of the ellipsoid B records, beside phi's (not a pass condition: the
+    # particle is phi; a gap between the two is shape phi lost without stress)
+    if "taylor_b_mean" in run.particles[0]:
+        wb = [run.window(windows[0], windows[1], "taylor_b_mean"), run.window(windows[1], windows[2], "taylor_b_mean")]
+        if None not in wb:
+            tb1, tb2 = wb[0][1], wb[1][1]
+            out.update(tb1=tb1, tb2=tb2, tb_ok=agree(tb1, tb2)[0], tol_tb=agree(tb1, tb2)[1])
     lo_col = "detb_raw_min" if "detb_raw_min" in rows[0] else "detb_min"
     hi_col = "detb_raw_max" if "detb_raw_max" in rows[0] else "detb_max"
     dmin = min(float(r[lo_col]) for r in rows)
@@ -150,15 +161,19 @@ def fmt(m):
 def markdown(results, windows):
     w = windows
     lines = [f"| run | grid | strain | Phi | quantity | [{w[0]:g},{w[1]:g}) | [{w[1]:g},{w[2]:g}) | agree (tol) "
-             "| T [{0:g},{1:g}) | T [{1:g},{2:g}) | agree (tol) | det B (phi > 0.5) | projection: share removed per strain "
+             "| T [{0:g},{1:g}) | T [{1:g},{2:g}) | agree (tol) | T of B [{0:g},{1:g}) | T of B [{1:g},{2:g}) | agree (tol) | det B (phi > 0.5) | projection: share removed per strain "
              "| max share phi < 0.1 | volume drift | wall s / strain | pass |".format(*w),
-             "|" + "---|" * 17]
+             "|" + "---|" * 20]
     for r in results:
         if "mu1" in r:
             cols = [r["mu_name"], fmt(r["mu1"]), fmt(r["mu2"]), f"{'yes' if r['mu_ok'] else 'NO'} ({r['tol_mu']:.4f})",
                     fmt(r["t1"]), fmt(r["t2"]), f"{'yes' if r['t_ok'] else 'NO'} ({r['tol_t']:.4f})"]
         else:
             cols = [r["mu_name"], "-", "-", "not reached", "-", "-", "not reached"]
+        if "tb1" in r:
+            cols += [fmt(r["tb1"]), fmt(r["tb2"]), f"{'yes' if r['tb_ok'] else 'NO'} ({r['tol_tb']:.4f})"]
+        else:
+            cols += ["-", "-", "-"]
         lines.append("| " + " | ".join([r["run"], r["grid"], f"{r['strain']:.1f}", f"{r['phi']:.4f}"] + cols + [
             f"[{r['detb'][0]:.4f}, {r['detb'][1]:.4f}]", f"{r['removed_max']:+.1e}", f"{r['lowphi_max']:.3f}",
             f"{r['volume_drift']:.1e}", f"{r['wall_per_strain']:.0f}", "PASS" if r["pass"] else "FAIL"]) + " |")

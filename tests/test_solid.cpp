@@ -170,20 +170,32 @@ struct LeVeque {
 namespace {
 // Device loops of the tests below live outside the TEST bodies: nvcc forbids
 // extended (KOKKOS_LAMBDA) lambdas in gtest's private TestBody.
-// phi of the sphere of radius 0.15 about (0.35, -0.15, 0.35), 4^3 sub-samples per cell
+// The fraction of cell (i, j, k)'s 4^3 sub-samples at which inside(x, y, z)
+// holds, (x, y, z) relative to (x0, y0, z0): the sampled phi of a body.
+template <class Inside>
+KOKKOS_INLINE_FUNCTION double sampled_fraction(const Grid& g, int i, int j, int k, double x0, double y0,
+                                               double z0, const Inside& inside) {
+  int in = 0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+      for (int e = 0; e < 4; ++e)
+        in += inside(g.xc(i) + g.dx * ((a + 0.5) / 4 - 0.5) - x0, g.yc(j) + g.dy * ((b + 0.5) / 4 - 0.5) - y0,
+                     g.zc(k) + g.dz * ((e + 0.5) / 4 - 0.5) - z0);
+  return in / 64.0;
+}
+// x^T M x < r^2 for M = [[xx, xy, 0], [xy, yy, 0], [0, 0, 1]] (a ball for M = I)
+struct InsideEllipsoid {
+  double xx, xy, yy, r2;
+  KOKKOS_INLINE_FUNCTION bool operator()(double x, double y, double z) const {
+    return xx * x * x + 2 * xy * x * y + yy * y * y + z * z < r2;
+  }
+};
+// phi of the sphere of radius 0.15 about (0.35, -0.15, 0.35)
 void fill_leveque_sphere(const Grid& g, const Field3& phi) {
+  const InsideEllipsoid ball{1, 0, 1, 0.15 * 0.15};
   par_for(
       "test_leveque_sphere", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-        int in = 0;
-        for (int a = 0; a < 4; ++a)
-          for (int b = 0; b < 4; ++b)
-            for (int e = 0; e < 4; ++e) {
-              const double x = g.xc(i) + g.dx * ((a + 0.5) / 4 - 0.5) - 0.35;
-              const double y = g.yc(j) + g.dy * ((b + 0.5) / 4 - 0.5) + 0.15;
-              const double z = g.zc(k) + g.dz * ((e + 0.5) / 4 - 0.5) - 0.35;
-              in += x * x + y * y + z * z < 0.15 * 0.15;
-            }
-        phi(i, j, k) = in / 64.0;
+        phi(i, j, k) = sampled_fraction(g, i, j, k, 0.35, -0.15, 0.35, ball);
       });
 }
 // sum of |phi - phi0| over the local interior
@@ -277,19 +289,10 @@ Ellipse2 stretched(double s, double theta) {
 void fill_ellipsoid(const Grid& g, const SolidViews& q, Ellipse2 bt, Ellipse2 b, double r, double x0,
                     double y0, double z0) {
   const double det = bt.xx * bt.yy - bt.xy * bt.xy;
-  const double ixx = bt.yy / det, ixy = -bt.xy / det, iyy = bt.xx / det;  // Bt^-1, x-y block
+  const InsideEllipsoid body{bt.yy / det, -bt.xy / det, bt.xx / det, r * r};  // Bt^-1, x-y block
   par_for(
       "test_ellipsoid", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-        int in = 0;
-        for (int a = 0; a < 4; ++a)
-          for (int e = 0; e < 4; ++e)
-            for (int h = 0; h < 4; ++h) {
-              const double x = g.xc(i) + g.dx * ((a + 0.5) / 4 - 0.5) - x0,
-                           y = g.yc(j) + g.dy * ((e + 0.5) / 4 - 0.5) - y0,
-                           z = g.zc(k) + g.dz * ((h + 0.5) / 4 - 0.5) - z0;
-              in += ixx * x * x + 2 * ixy * x * y + iyy * y * y + z * z < r * r;
-            }
-        q.phi(i, j, k) = in / 64.0;
+        q.phi(i, j, k) = sampled_fraction(g, i, j, k, x0, y0, z0, body);
         q.b0(i, j, k) = b.xx, q.b1(i, j, k) = b.xy, q.b2(i, j, k) = 0;
         q.b3(i, j, k) = b.yy, q.b4(i, j, k) = 0, q.b5(i, j, k) = 1;
       });
