@@ -3,7 +3,7 @@
 issue 12, from a run folder's series.csv, particles.csv and summary.json.
 
   scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--md OUT.md]
-  scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ...
+  scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ... [--labels NEW,OLD]
   (a run without a summary.json yet, or one that blew up: DIR@LXxLYxLZ gives its box)
 
 check, per run:
@@ -180,7 +180,7 @@ def markdown(results, windows):
     return "\n".join(lines) + "\n"
 
 
-def figure(out, pairs):
+def figure(out, pairs, labels=("new scheme", "old scheme")):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -188,9 +188,12 @@ def figure(out, pairs):
     for c, pair in enumerate(pairs):
         for k, folder in enumerate(pair.split(",")):
             run = Run(folder)
-            style = dict(lw=0.8, color="C0" if k == 0 else "C3", label="new scheme" if k == 0 else "old scheme")
+            style = dict(lw=0.8, color="C0" if k == 0 else "C3", label=labels[min(k, 1)])
             ax[0][c].plot(run.strain(run.series), [run.mu(r) for r in run.series], **style)
             ax[1][c].plot(run.strain(run.particles), [float(r["taylor_mean"]) for r in run.particles], **style)
+            if "taylor_b_mean" in run.particles[0]:  # the shape B records, dashed
+                style.update(ls="--", lw=0.6, label=style["label"] + ", T of B")
+                ax[1][c].plot(run.strain(run.particles), [float(r["taylor_b_mean"]) for r in run.particles], **style)
             ax[0][c].set_title(f"{run.name} (Phi = {run.phi:.4f})", fontsize=9)
             ax[0][c].set_ylabel(run.mu_name)
         ax[1][c].set_ylabel("T")
@@ -247,6 +250,7 @@ def main():
     f = sub.add_parser("figure")
     f.add_argument("out")
     f.add_argument("pairs", nargs="+")
+    f.add_argument("--labels", default="new scheme,old scheme", help="legend of the first and second run of a pair")
     h = sub.add_parser("shape")
     h.add_argument("runs", nargs="+")
     ap.add_argument("--box", help="LX,LY,LZ of runs still going (no summary.json yet)")
@@ -258,7 +262,7 @@ def main():
         shape(a.runs)
         return
     if a.cmd == "figure":
-        figure(os.path.abspath(a.out), a.pairs)
+        figure(os.path.abspath(a.out), a.pairs, a.labels.split(","))
         return
     windows = [float(x) for x in a.windows.split(",")]
     results = []
