@@ -246,21 +246,30 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
     dmin = mm.min_val;
     dmax = mm.max_val;
   }
-  Real shear[2] = {0, 0};  // phi B_xy over phi < 0.1 cells, over all cells
+  // phi B_xy over phi < 0.1 cells, over all cells; phi over phi < 0.1 cells:
+  // solid that has left the particles' interfaces as thin wisps (the total is vol)
+  Real low[3] = {0, 0, 0};
   par_reduce(
       "diagnostics_elastic_lowphi", g.interior(),
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
         const Real p = q.phi(i, j, k);
         if (p < 0.1) a += fraction(p) * q.b1(i, j, k);
       },
-      Kokkos::Sum<Real>(shear[0]));
+      Kokkos::Sum<Real>(low[0]));
   par_reduce(
       "diagnostics_elastic_total", g.interior(),
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += fraction(q.phi(i, j, k)) * q.b1(i, j, k); },
-      Kokkos::Sum<Real>(shear[1]));
+      Kokkos::Sum<Real>(low[1]));
+  par_reduce(
+      "diagnostics_solid_lowphi", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+        const Real p = q.phi(i, j, k);
+        if (p < 0.1) a += p;
+      },
+      Kokkos::Sum<Real>(low[2]));
   MPI_Comm c = s_.decomposition().comm;
-  MPI_Allreduce(MPI_IN_PLACE, shear, 2, MPI_DOUBLE, MPI_SUM, c);
-  f.elastic_share_lowphi = shear[1] != 0 ? shear[0] / shear[1] : 0;
+  MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_SUM, c);
+  f.elastic_share_lowphi = low[1] != 0 ? low[0] / low[1] : 0;
   const SolidPhase::BStats b = s_.solid()->take_b_stats();
   f.unimodular_removed = b.stages > 0 ? b.removed_sum / Real(b.stages) : 0;
   long fallback = b.fallback_cells;
@@ -272,6 +281,7 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
   MPI_Allreduce(MPI_IN_PLACE, &dmin, 1, MPI_DOUBLE, MPI_MIN, c);
   MPI_Allreduce(MPI_IN_PLACE, &dmax, 1, MPI_DOUBLE, MPI_MAX, c);
   f.solid_volume = vol * g.dx * g.dy * g.dz;
+  f.solid_share_lowphi = vol != 0 ? low[2] / vol : 0;
   f.phi_min = pmin;
   f.phi_max = pmax;
   // no solid cell anywhere: report the neutral value

@@ -45,6 +45,7 @@ struct FlowScalars {
   // (signed); the share of the volume-summed elastic
   // shear stress phi G B_xy carried by cells with phi < 0.1
   Real detb_raw_min = 1, detb_raw_max = 1, unimodular_removed = 0, elastic_share_lowphi = 0;
+  Real solid_share_lowphi = 0;  // share of the solid volume in cells with phi < 0.1 (shed wisps)
   // cell-stages whose B took the first-order fallback since the previous row
   // (kernels/solid_b_fallback.hpp), over all ranks
   long b_fallback_cells = 0;
