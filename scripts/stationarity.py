@@ -96,14 +96,15 @@ class Run:
         m = float(r["mu_eff"])
         return (m - 1) / self.phi if self.dilute else m
 
-    def window(self, lo, hi, shape_col="taylor_mean"):
-        """mu and T (from phi's moments, or with shape_col="taylor_b_mean"
-        from the B ellipsoid) over [lo, hi), each with its standard error."""
+    def window(self, lo, hi):
+        """mu, T (phi's moments) and T of B (the B ellipsoid; None without
+        the column) over [lo, hi), each with its standard error."""
         mu = [self.mu(r) for r in self.series if lo <= float(r["strain"]) < hi]
-        t = [float(r[shape_col]) for r in self.particles if lo <= float(r["strain"]) < hi]
-        if len(mu) < 20 or len(t) < 20:
+        rows = [r for r in self.particles if lo <= float(r["strain"]) < hi]
+        if len(mu) < 20 or len(rows) < 20:
             return None
-        return batch_mean(mu), batch_mean(t)
+        tb = batch_mean([float(r["taylor_b_mean"]) for r in rows]) if "taylor_b_mean" in rows[0] else None
+        return batch_mean(mu), batch_mean([float(r["taylor_mean"]) for r in rows]), tb
 
 
 def agree(a, b):
@@ -119,18 +120,16 @@ def check(run, windows):
     w = [run.window(windows[0], windows[1]), run.window(windows[1], windows[2])]
     ok = reached >= windows[2] - 1e-6 and None not in w
     if None not in w:
-        (mu1, t1), (mu2, t2) = w
+        (mu1, t1, tb1), (mu2, t2, tb2) = w
         a_mu, tol_mu = agree(mu1, mu2)
         a_t, tol_t = agree(t1, t2)
         out.update(mu1=mu1, mu2=mu2, t1=t1, t2=t2, tol_mu=tol_mu, tol_t=tol_t, mu_ok=a_mu, t_ok=a_t)
         ok = ok and a_mu and a_t
-    # T of the ellipsoid B records, beside phi's (not a pass condition: the
-    # particle is phi; a gap between the two is shape phi lost without stress)
-    if "taylor_b_mean" in run.particles[0]:
-        wb = [run.window(windows[0], windows[1], "taylor_b_mean"), run.window(windows[1], windows[2], "taylor_b_mean")]
-        if None not in wb:
-            tb1, tb2 = wb[0][1], wb[1][1]
-            out.update(tb1=tb1, tb2=tb2, tb_ok=agree(tb1, tb2)[0], tol_tb=agree(tb1, tb2)[1])
+        # T of the ellipsoid B records, beside phi's (not a pass condition: the
+        # particle is phi; a gap between the two is shape phi lost without stress)
+        if tb1 and tb2:
+            a_tb, tol_tb = agree(tb1, tb2)
+            out.update(tb1=tb1, tb2=tb2, tb_ok=a_tb, tol_tb=tol_tb)
     lo_col = "detb_raw_min" if "detb_raw_min" in rows[0] else "detb_min"
     hi_col = "detb_raw_max" if "detb_raw_max" in rows[0] else "detb_max"
     dmin = min(float(r[lo_col]) for r in rows)

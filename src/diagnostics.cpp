@@ -246,30 +246,20 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
     dmin = mm.min_val;
     dmax = mm.max_val;
   }
-  // phi B_xy over phi < 0.1 cells, over all cells; phi over phi < 0.1 cells:
-  // solid that has left the particles' interfaces as thin wisps (the total is vol)
-  Real low[3] = {0, 0, 0};
-  par_reduce(
-      "diagnostics_elastic_lowphi", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
-        const Real p = q.phi(i, j, k);
-        if (p < 0.1) a += fraction(p) * q.b1(i, j, k);
-      },
-      Kokkos::Sum<Real>(low[0]));
-  par_reduce(
-      "diagnostics_elastic_total", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += fraction(q.phi(i, j, k)) * q.b1(i, j, k); },
-      Kokkos::Sum<Real>(low[1]));
+  // in one pass: phi B_xy over phi < 0.1 cells, over all cells, and phi over
+  // phi < 0.1 cells (solid that has left the particles as thin wisps; the total is vol)
+  detail::Sums<3> lows;
   par_reduce(
       "diagnostics_solid_lowphi", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
-        const Real p = q.phi(i, j, k);
-        if (p < 0.1) a += p;
+      KOKKOS_LAMBDA(int i, int j, int k, detail::Sums<3>& a) {
+        const Real p = q.phi(i, j, k), sb = fraction(p) * q.b1(i, j, k);
+        a.q[1] += sb;
+        if (p < 0.1) a.q[0] += sb, a.q[2] += p;
       },
-      Kokkos::Sum<Real>(low[2]));
+      Kokkos::Sum<detail::Sums<3>>(lows));
   MPI_Comm c = s_.decomposition().comm;
-  MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_SUM, c);
-  f.elastic_share_lowphi = low[1] != 0 ? low[0] / low[1] : 0;
+  MPI_Allreduce(MPI_IN_PLACE, lows.q, 3, MPI_DOUBLE, MPI_SUM, c);
+  f.elastic_share_lowphi = lows.q[1] != 0 ? lows.q[0] / lows.q[1] : 0;
   const SolidPhase::BStats b = s_.solid()->take_b_stats();
   f.unimodular_removed = b.stages > 0 ? b.removed_sum / Real(b.stages) : 0;
   long fallback = b.fallback_cells;
@@ -281,7 +271,7 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
   MPI_Allreduce(MPI_IN_PLACE, &dmin, 1, MPI_DOUBLE, MPI_MIN, c);
   MPI_Allreduce(MPI_IN_PLACE, &dmax, 1, MPI_DOUBLE, MPI_MAX, c);
   f.solid_volume = vol * g.dx * g.dy * g.dz;
-  f.solid_share_lowphi = vol != 0 ? low[2] / vol : 0;
+  f.solid_share_lowphi = vol != 0 ? lows.q[2] / vol : 0;
   f.phi_min = pmin;
   f.phi_max = pmax;
   // no solid cell anywhere: report the neutral value
