@@ -2,6 +2,7 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -214,10 +215,13 @@ void Output::checkpoint(const std::vector<ParticleShape>& particles) {
   const Grid& g = s_.grid();
   std::vector<H5Item> items = {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}};
   add_solid(items, s_);
-  std::vector<double> centroids;
-  for (const auto& p : particles) centroids.insert(centroids.end(), {p.x, p.y, p.z});
+  std::vector<double> centroids, reach;
+  for (const auto& p : particles) {
+    centroids.insert(centroids.end(), {p.x, p.y, p.z});
+    reach.insert(reach.end(), p.reach, p.reach + 6);
+  }
   std::map<std::string, std::vector<double>> arrays;
-  if (s_.solid()) arrays["particle_centroids"] = centroids;
+  if (s_.solid()) arrays["particle_centroids"] = centroids, arrays["particle_reach"] = reach;
   file_.write(path + ".tmp", items,
               {{"time", s_.time},
                {"step", double(s_.step)},
@@ -228,7 +232,7 @@ void Output::checkpoint(const std::vector<ParticleShape>& particles) {
   commit_file(s_.decomposition(), path + ".tmp", path);
 }
 
-std::vector<double> Output::restart(FlowSolver& s, const std::string& path) {
+std::vector<ParticleShape> Output::restart(FlowSolver& s, const std::string& path) {
   FieldFile f(s.decomposition(), s.grid());
   auto& st = s.state();
   std::vector<H5Item> items = {{"u", st.u}, {"v", st.v}, {"w", st.w}, {"p", st.p}};
@@ -241,7 +245,15 @@ std::vector<double> Output::restart(FlowSolver& s, const std::string& path) {
   if (s.solid()) {
     s.solid()->fill_ghosts();
     s.solid()->init_force();
-    return FieldFile::read_array(path, "particle_centroids");
+    const std::vector<double> c = FieldFile::read_array(path, "particle_centroids"),
+                              m = FieldFile::read_array(path, "particle_reach");
+    std::vector<ParticleShape> shapes(c.size() / 3);
+    for (size_t p = 0; p < shapes.size(); ++p) {
+      shapes[p].x = c[3 * p], shapes[p].y = c[3 * p + 1], shapes[p].z = c[3 * p + 2];
+      // a checkpoint from before the reach was stored: the seeded sphere's
+      if (m.size() == 6 * shapes.size()) std::copy(&m[6 * p], &m[6 * p] + 6, shapes[p].reach);
+    }
+    return shapes;
   }
   return {};
 }

@@ -28,12 +28,13 @@ class Output {
   void particles_row(const std::vector<ParticleShape>& shapes);
   void profile_sample(const FlowProfiles& p);
   void snapshot();
-  // the tracked particles' centroids go along, for a restart to keep tracking them
+  // the tracked particles' centroids and reach go along, for a restart to
+  // keep tracking them as the run would have
   void checkpoint(const std::vector<ParticleShape>& particles);
   void write_text(const std::string& name, const std::string& text);  // rank 0, tmp + rename
   // reads checkpoint `path` into the solver (time, step, fields); returns the
-  // tracked centroids it holds (x, y, z per particle; empty without particles)
-  static std::vector<double> restart(FlowSolver& s, const std::string& path);
+  // tracked particles it holds, centroid and reach (empty without particles)
+  static std::vector<ParticleShape> restart(FlowSolver& s, const std::string& path);
   const std::string& dir() const { return dir_; }
 
  private:

@@ -9,8 +9,10 @@ namespace softflow {
 
 namespace {
 
-// eigenvalues of a symmetric 3x3 matrix (Jacobi rotations), descending
-void eig3(double m[3][3], double ev[3]) {
+// eigen-decomposition of a symmetric 3x3 matrix (Jacobi rotations):
+// eigenvalues descending, vec[k] the unit eigenvector of ev[k]
+void eig3(double m[3][3], double ev[3], double vec[3][3]) {
+  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};  // columns: the eigenvectors
   for (int sweep = 0; sweep < 50; ++sweep) {
     double off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
     if (off < 1e-30) break;
@@ -23,6 +25,9 @@ void eig3(double m[3][3], double ev[3]) {
           const double mkp = m[k][p], mkq = m[k][q];
           m[k][p] = c * mkp - s * mkq;
           m[k][q] = s * mkp + c * mkq;
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
         }
         for (int k = 0; k < 3; ++k) {  // rows
           const double mpk = m[p][k], mqk = m[q][k];
@@ -31,8 +36,54 @@ void eig3(double m[3][3], double ev[3]) {
         }
       }
   }
-  for (int k = 0; k < 3; ++k) ev[k] = m[k][k];
-  std::sort(ev, ev + 3, [](double a, double b) { return a > b; });
+  int order[3] = {0, 1, 2};
+  std::sort(order, order + 3, [&](int a, int b) { return m[a][a] > m[b][b]; });
+  for (int k = 0; k < 3; ++k) {
+    ev[k] = m[order[k]][order[k]];
+    for (int e = 0; e < 3; ++e) vec[k][e] = v[e][order[k]];
+  }
+}
+
+// The ellipsoid of the cells whose moments (sum f, f x (3), f x x (6), x
+// relative to the tracked centroid) q holds: their centroid offset, the
+// covariance, its eigenvalues (descending) and eigenvectors.
+struct Spread {
+  double mean[3], cov[3][3], ev[3], vec[3][3];
+};
+Spread spread_of(const double* q) {
+  Spread s{};
+  for (int d = 0; d < 3; ++d) s.mean[d] = q[1 + d] / q[0];
+  const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
+  for (int e = 0; e < 6; ++e) {
+    const int a = a_of[e], b = b_of[e];
+    s.cov[a][b] = s.cov[b][a] = q[4 + e] / q[0] - s.mean[a] * s.mean[b];
+  }
+  double work[3][3];
+  std::copy(&s.cov[0][0], &s.cov[0][0] + 9, &work[0][0]);
+  eig3(work, s.ev, s.vec);
+  return s;
+}
+
+// the semi-axes of a uniform ellipsoid with covariance eigenvalues ev and
+// volume v (the diffuse interface's tails inflate the moments alike in every
+// direction: the moments give the shape, the volume its size); scale = the
+// factor applied to sqrt(5 ev)
+void axes_of(const double ev[3], double v, double ax[3], double& scale) {
+  for (int k = 0; k < 3; ++k) ax[k] = std::sqrt(5 * std::max(ev[k], 0.0));
+  const double abc = ax[0] * ax[1] * ax[2];
+  scale = abc > 0 ? std::cbrt(v / (4.0 / 3.0 * M_PI * abc)) : 1.0;
+  for (int k = 0; k < 3; ++k) ax[k] *= scale;
+}
+
+// the reach of a particle with semi-axes ax[k] along vec[k] (see the header):
+// M = sum_k vec_k vec_k^T / (4/3 (ax_k + r/2))^2
+void reach_metric(const double ax[3], const double vec[3][3], double r, double out[6]) {
+  const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
+  for (int e = 0; e < 6; ++e) out[e] = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double l = 4.0 / 3.0 * (ax[k] + r / 2);
+    for (int e = 0; e < 6; ++e) out[e] += vec[k][a_of[e]] * vec[k][b_of[e]] / (l * l);
+  }
 }
 
 }  // namespace
@@ -47,33 +98,43 @@ ParticleTracker::ParticleTracker(FlowSolver& s, const std::vector<ParticleShape>
     : s_(s),
       shapes_(start),
       centres_("tracker_centres", start.size()),
+      reach_("tracker_reach", start.size()),
       moments_("tracker_moments", start.size()) {}
 
 void ParticleTracker::update() {
   const int n = int(shapes_.size());
   if (n == 0 || !s_.solid()) return;
+  const Real r = s_.config().particles.radius;
   auto ch = Kokkos::create_mirror_view(centres_);
-  for (int m = 0; m < n; ++m) ch(m, 0) = shapes_[m].x, ch(m, 1) = shapes_[m].y, ch(m, 2) = shapes_[m].z;
+  auto rh = Kokkos::create_mirror_view(reach_);
+  for (int m = 0; m < n; ++m) {
+    const ParticleShape& p = shapes_[m];
+    ch(m, 0) = p.x, ch(m, 1) = p.y, ch(m, 2) = p.z;
+    const bool measured = p.reach[0] > 0;  // else the seeded sphere: 2 r
+    for (int e = 0; e < 6; ++e) rh(m, e) = measured ? p.reach[e] : (e == 0 || e == 3 || e == 5) / (4 * r * r);
+  }
   Kokkos::deep_copy(centres_, ch);
+  Kokkos::deep_copy(reach_, rh);
   Kokkos::deep_copy(moments_, 0.0);
   const Grid g = s_.grid();
   const SolidViews sv(s_.solid()->fields());
   auto c = centres_;
+  auto M = reach_;
   auto mom = moments_;
-  const Real r = s_.config().particles.radius, lx = g.lx, lz = g.lz;
-  const Real cut2 = 4 * r * r;
+  const Real lx = g.lx, lz = g.lz;
   par_for(
       "tracker_moments", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
         const Real f = fraction(sv.phi(i, j, k));
         if (f <= 0) return;
         const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
         int best = -1;
-        Real bd = cut2, bx = 0, by = 0, bz = 0;
+        Real bd = 1, bx = 0, by = 0, bz = 0;  // within reach: d^T M d < 1
         for (int m = 0; m < n; ++m) {
           Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
           dx -= lx * Kokkos::round(dx / lx);
           dz -= lz * Kokkos::round(dz / lz);
-          const Real d2 = dx * dx + dy * dy + dz * dz;
+          const Real d2 = M(m, 0) * dx * dx + M(m, 3) * dy * dy + M(m, 5) * dz * dz +
+                          2 * (M(m, 1) * dx * dy + M(m, 2) * dx * dz + M(m, 4) * dy * dz);
           if (d2 < bd) bd = d2, best = m, bx = dx, by = dy, bz = dz;
         }
         if (best < 0) return;
@@ -93,7 +154,10 @@ void ParticleTracker::update() {
                                     f * sv.B(3, i, j, k),
                                     f * sv.B(4, i, j, k),
                                     f * sv.B(5, i, j, k)};
-        for (int e = 0; e < n_moments; ++e) Kokkos::atomic_add(&mom(best, e), mv[e]);
+        for (int e = 0; e < 16; ++e) Kokkos::atomic_add(&mom(best, e), mv[e]);
+        if (f <= Real(0.5)) return;
+        // the core, phi > 0.5: its ellipsoid sets the reach
+        for (int e = 0; e < 10; ++e) Kokkos::atomic_add(&mom(best, 16 + e), mv[e]);
       });
   auto mh = Kokkos::create_mirror_view(moments_);
   Kokkos::deep_copy(mh, moments_);
@@ -104,31 +168,28 @@ void ParticleTracker::update() {
     const double* q = &buf[n_moments * m];
     ParticleShape& p = shapes_[m];
     if (q[0] <= 0) continue;  // lost: keep the old centroid
-    const double mx = q[1] / q[0], my = q[2] / q[0], mz = q[3] / q[0];
-    p.x = std::fmod(p.x + mx + lx, lx);
-    p.y += my;
-    p.z = std::fmod(p.z + mz + lz, lz);
+    const Spread all = spread_of(q);
+    p.x = std::fmod(p.x + all.mean[0] + lx, lx);
+    p.y += all.mean[1];
+    p.z = std::fmod(p.z + all.mean[2] + lz, lz);
     p.volume = q[0] * dv;
-    double cov[3][3] = {{q[4] / q[0] - mx * mx, q[5] / q[0] - mx * my, q[6] / q[0] - mx * mz},
-                        {0, q[7] / q[0] - my * my, q[8] / q[0] - my * mz},
-                        {0, 0, q[9] / q[0] - mz * mz}};
-    cov[1][0] = cov[0][1], cov[2][0] = cov[0][2], cov[2][1] = cov[1][2];
-    const double cxx = cov[0][0], cxy = cov[0][1], cyy = cov[1][1];
-    double ev[3];
-    eig3(cov, ev);
-    p.a = std::sqrt(5 * std::max(ev[0], 0.0));
-    p.b = std::sqrt(5 * std::max(ev[1], 0.0));
-    p.c = std::sqrt(5 * std::max(ev[2], 0.0));
+    double ax[3];
+    axes_of(all.ev, p.volume, ax, p.axes_scale);
+    p.a = ax[0], p.b = ax[1], p.c = ax[2];
+    const double cxx = all.cov[0][0], cxy = all.cov[0][1], cyy = all.cov[1][1];
     const double tr = 0.5 * (cxx + cyy), dif = std::sqrt(0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy);
-    p.a_xy = std::sqrt(5 * std::max(tr + dif, 0.0));
-    p.b_xy = std::sqrt(5 * std::max(tr - dif, 0.0));
-    // The diffuse interface's tails inflate the second moments alike in every
-    // direction: the moments give the shape, the particle's volume its size.
-    // Scale the axes so that (4/3) pi a b c is that volume (T is unchanged).
-    const double abc = p.a * p.b * p.c;
-    p.axes_scale = abc > 0 ? std::cbrt(p.volume / (4.0 / 3.0 * M_PI * abc)) : 1.0;
-    p.a *= p.axes_scale, p.b *= p.axes_scale, p.c *= p.axes_scale;
-    p.a_xy *= p.axes_scale, p.b_xy *= p.axes_scale;
+    p.a_xy = p.axes_scale * std::sqrt(5 * std::max(tr + dif, 0.0));
+    p.b_xy = p.axes_scale * std::sqrt(5 * std::max(tr - dif, 0.0));
+    // the reach from the core (phi > 0.5) alone: wisps of solid shed into the
+    // fluid would otherwise widen it, and it would take in more of them at
+    // the next update. A particle with no core cell keeps its reach.
+    const double* core = q + 16;
+    if (core[0] > 0) {
+      const Spread cs = spread_of(core);
+      double cax[3], cscale;
+      axes_of(cs.ev, core[0] * dv, cax, cscale);
+      reach_metric(cax, cs.vec, r, p.reach);
+    }
     p.taylor = (p.a_xy - p.b_xy) / (p.a_xy + p.b_xy);
     p.angle = 0.5 * std::atan2(2 * cxy, cxx - cyy);
     // The same x-y section from the solid's own record of its deformation:

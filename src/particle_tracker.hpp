@@ -1,16 +1,22 @@
 // Particle identity for diagnostics: tracked centroids.
 //
-// Each particle keeps a centroid, replicated on every rank. A cell with
-// phi > 0 belongs to the particle whose centroid is nearest (minimum image
-// in x and z), within 2 radii. Near contact this splits two particles along
-// the plane between their centres instead of merging them (as connected
-// components of phi > 0.5 would), it does not care about periodic or rank
-// boundaries, and it costs one pass over the cells per update. update()
-// moves each centroid to the phi-weighted centre of its cells and measures
-// the second moments there, from which the ellipsoid axes follow: for a
-// uniform ellipsoid the covariance eigenvalues are a^2/5, b^2/5, c^2/5.
-// Updates must come often enough that no particle moves by more than about
-// a radius between them (the driver updates at every series row).
+// Each particle keeps a centroid and its last measured ellipsoid, replicated
+// on every rank. A cell with phi > 0 belongs to the particle it is nearest
+// to in that particle's own metric: the ellipsoid of its core (phi > 0.5)
+// with each semi-axis grown by r / 2 (the diffuse band), and a cell is within
+// reach below 4/3 of it.
+// For the seeded sphere that is the nearest centroid within 2 r; a particle
+// stretched to a = 2.6 r (dilute Ca = 2) reaches 4.1 r along its long axis
+// and 1.1 r across its thin one, so its tips are kept and a neighbour's are
+// not taken (a fixed 2 r cut both ways). Near contact this splits two
+// particles where their ellipsoids meet instead of merging them (as
+// connected components of phi > 0.5 would), it does not care about periodic
+// or rank boundaries, and it costs one pass over the cells per update.
+// update() moves each centroid to the phi-weighted centre of its cells and
+// measures the second moments there, from which the ellipsoid axes follow:
+// for a uniform ellipsoid the covariance eigenvalues are a^2/5, b^2/5, c^2/5.
+// Updates must come often enough that no particle moves or stretches by more
+// than about a radius between them (the driver updates at every series row).
 #pragma once
 #include <vector>
 
@@ -30,6 +36,10 @@ struct ParticleShape {
   double taylor_b = 0;         // T of the x-y section of the ellipsoid x^T <B>^-1 x = r^2, <B> the
                                // phi-weighted mean of B over the particle's cells
   double angle_b = 0;          // that ellipsoid's inclination, radians
+  // the assignment metric M (xx, xy, xz, yy, yz, zz): a cell at offset d
+  // from the centroid is within reach if d^T M d < 1; all 0 until the first
+  // update, which then uses the seeded sphere's (2 r)
+  double reach[6] = {0, 0, 0, 0, 0, 0};
 };
 
 class ParticleTracker {
@@ -44,8 +54,10 @@ class ParticleTracker {
   FlowSolver& s_;
   std::vector<ParticleShape> shapes_;
   Kokkos::View<Real* [3], Kokkos::LayoutRight, MemSpace> centres_;
-  // per particle: sum f, f x, f x x (6), f B (6); row m contiguous
-  static constexpr int n_moments = 16;
+  Kokkos::View<Real* [6], Kokkos::LayoutRight, MemSpace> reach_;
+  // per particle: sum f, f x, f x x (6), f B (6), then sum f, f x, f x x
+  // over the core (phi > 0.5); row m contiguous
+  static constexpr int n_moments = 26;
   Kokkos::View<Real* [n_moments], Kokkos::LayoutRight, MemSpace> moments_;
 };
 

@@ -84,26 +84,20 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   FlowSolver solver(cfg, comm);
   const bool root = solver.decomposition().is_root();
   const bool restarted = !cfg.restart.empty();
-  std::vector<double> centroids;
+  std::vector<ParticleShape> tracked;
   if (restarted) {
-    centroids = Output::restart(solver, cfg.restart);
+    tracked = Output::restart(solver, cfg.restart);
   } else {
     solver.initialize();
   }
   Output out(solver, restarted);
   Diagnostics diag(solver);
   // particle identity for the shape diagnostics: seeded spheres, or the
-  // centroids the checkpoint tracked
+  // particles the checkpoint tracked
   std::unique_ptr<ParticleTracker> tracker;
-  if (solver.solid()) {
-    auto start = ParticleTracker::from_spheres(solver.solid()->spheres());
-    if (restarted) {
-      start.assign(centroids.size() / 3, ParticleShape{});
-      for (size_t p = 0; p < start.size(); ++p)
-        start[p].x = centroids[3 * p], start[p].y = centroids[3 * p + 1], start[p].z = centroids[3 * p + 2];
-    }
-    tracker = std::make_unique<ParticleTracker>(solver, start);
-  }
+  if (solver.solid())
+    tracker = std::make_unique<ParticleTracker>(
+        solver, restarted ? tracked : ParticleTracker::from_spheres(solver.solid()->spheres()));
   const std::vector<ParticleShape> no_particles;
   auto particles = [&]() -> const std::vector<ParticleShape>& {
     return tracker ? tracker->shapes() : no_particles;
