@@ -103,8 +103,16 @@ class Run:
         rows = [r for r in self.particles if lo <= float(r["strain"]) < hi]
         if len(mu) < 20 or len(rows) < 20:
             return None
-        tb = batch_mean([float(r["taylor_b_mean"]) for r in rows]) if "taylor_b_mean" in rows[0] else None
+        tb = present(rows, "taylor_b_mean")
+        tb = batch_mean(tb) if len(tb) >= 20 else None
         return batch_mean(mu), batch_mean([float(r["taylor_mean"]) for r in rows]), tb
+
+
+def present(rows, name):
+    """The values of column `name` in the rows that have it: a run resumed
+    by a later version has rows from before a column was added (csv gives
+    None or '' there)."""
+    return [float(r[name]) for r in rows if r.get(name) not in (None, "")]
 
 
 def agree(a, b):
@@ -142,12 +150,11 @@ def check(run, windows):
     removed = [float(r.get("unimodular_removed", 0) or 0) for r in late_rows]
     steps_per_strain = int(run.series[-1]["step"]) / max(reached, 1e-9)
     out["removed_max"] = sum(removed) / len(removed) * 3 * steps_per_strain
-    late = [float(r["elastic_share_lowphi"]) for r in rows
-            if "elastic_share_lowphi" in r and float(r["strain"]) >= 1]
+    late = present([r for r in rows if float(r["strain"]) >= 1], "elastic_share_lowphi")
     out["lowphi_max"] = max(late) if late else math.nan
     out["lowphi_ok"] = bool(late) and out["lowphi_max"] < 0.05
     # the solid volume that has left the particles as wisps (not a condition of the issue's)
-    shed = [float(r["solid_share_lowphi"]) for r in rows if "solid_share_lowphi" in r]
+    shed = present(rows, "solid_share_lowphi")
     out["shed_max"] = max(shed) if shed else math.nan
     v = [float(r["solid_volume"]) for r in run.series]
     out["volume_drift"] = max(abs(x / v[0] - 1) for x in v)
@@ -195,9 +202,10 @@ def figure(out, pairs, labels=("new scheme", "old scheme")):
             style = dict(lw=0.8, color="C0" if k == 0 else "C3", label=labels[min(k, 1)])
             ax[0][c].plot(run.strain(run.series), [run.mu(r) for r in run.series], **style)
             ax[1][c].plot(run.strain(run.particles), [float(r["taylor_mean"]) for r in run.particles], **style)
-            if "taylor_b_mean" in run.particles[0]:  # the shape B records, dashed
+            with_b = [r for r in run.particles if r.get("taylor_b_mean") not in (None, "")]
+            if with_b:  # the shape B records, dashed
                 style.update(ls="--", lw=0.6, label=style["label"] + ", T of B")
-                ax[1][c].plot(run.strain(run.particles), [float(r["taylor_b_mean"]) for r in run.particles], **style)
+                ax[1][c].plot(run.strain(with_b), present(with_b, "taylor_b_mean"), **style)
             ax[0][c].set_title(f"{run.name} (Phi = {run.phi:.4f})", fontsize=9)
             ax[0][c].set_ylabel(run.mu_name)
         ax[1][c].set_ylabel("T")
