@@ -297,10 +297,6 @@ Config parse_config(const std::string& text, const std::string& name,
       if (!(p.thinc_beta >= 0.5 && p.thinc_beta <= 10))
         throw InputError("'particles.thinc_beta' must be in [0.5, 10] (got " + std::to_string(p.thinc_beta) +
                          ")");
-      r.read("phi_redistribution", p.phi_redistribution, false);
-      if (p.phi_redistribution != "local" && p.phi_redistribution != "global")
-        throw InputError("'particles.phi_redistribution' must be \"local\" or \"global\" (got \"" +
-                         p.phi_redistribution + "\")");
       r.read("b_extension", p.b_extension, false);
       r.read("unimodular_b", p.unimodular_b, false);
       r.read("b_fallback", p.b_fallback, false);

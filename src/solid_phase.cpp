@@ -4,7 +4,6 @@
 #include <cmath>
 #include <utility>
 
-#include "../kernels/phi_local_redistribution.hpp"
 #include "../kernels/solid_region.hpp"
 #include "../kernels/solid_transport.hpp"
 
@@ -31,7 +30,6 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   stress_.g_rho = cfg.shear_modulus() / cfg.fluid.rho;
   phi_scheme_.thinc_beta = cfg.particles.phi_scheme == "thinc" ? cfg.particles.thinc_beta : 0;
   extend_b_ = cfg.particles.b_extension;
-  local_redistribution_ = cfg.particles.phi_redistribution == "local";
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
   b_check_.on = cfg.particles.b_fallback;
@@ -232,33 +230,13 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
     if (troubled > 0) b_upwind_fallback(g_, flow, q_, rhs_now_, rhs_before_, b_check_, gdt, zdt, region_);
     b_stats_.fallback_cells += troubled;
   }
-  keep_phi_bounded();
+  phi_bounded_redistribution(
+      q_, [this](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm()); },
+      region_);
   std::swap(rhs_now_, rhs_before_);
   fill_ghosts();
   constrain_b();
   elastic_force(force_now_, force_region_);
-}
-
-// phi back into [0, 1], the clipped volume given back to the interface:
-// next to where it was clipped (kernels/phi_local_redistribution.hpp), or
-// spread over the whole interface (particles.phi_redistribution = "global")
-void SolidPhase::keep_phi_bounded() {
-  const auto allreduce = [this](Real* x, int n) {
-    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm());
-  };
-  if (!local_redistribution_) {
-    phi_bounded_redistribution(q_, allreduce, region_);
-    return;
-  }
-  // the face-flux scratch is free between the fallback and the extension
-  const Field3 excess = flux_.x, room = flux_.y, phi = q_.phi();
-  phi_clip_excess(phi, excess, region_);
-  halo_.exchange({phi, excess});
-  phi_neighbourhood_room(g_, phi, excess, room, region_);
-  halo_.exchange({room});
-  Real rest = phi_place_excess(g_, phi, excess, room, region_);
-  allreduce(&rest, 1);
-  if (rest != 0) phi_spread_rest(phi, rest, allreduce, region_);
 }
 
 void SolidPhase::constrain_b() {

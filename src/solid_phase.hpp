@@ -22,9 +22,6 @@ class SolidPhase {
   // phi from the seeded spheres (or the layer) by sub-cell sampling; B = I
   void seed();
   void fill_ghosts();
-  // phi clipped to [0, 1], the clipped volume given back to the interface
-  // (each stage; public for the tests)
-  void keep_phi_bounded();
 
   // Before each step: the region the solid can reach in it (phi's support
   // grown by solid_region_margin, kernels/solid_region.hpp); phi and B are
@@ -92,7 +89,7 @@ class SolidPhase {
   StoredNu nu_;    // the mixture viscosity at centres and edges
   std::vector<Sphere> spheres_;
   PhiScheme phi_scheme_;
-  bool extend_b_, unimodular_b_, local_redistribution_;
+  bool extend_b_, unimodular_b_;
   BCheck b_check_;  // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
   BStats b_stats_;
   bool track_region_ = true;

@@ -81,9 +81,6 @@ TEST(Config, NonPositiveValuesAreRejected) {
   expect_error(error_of(good, {"grid.nz=-4"}), "'grid.nz' must be positive");
   expect_error(error_of(good, {"fluid.rho=0"}), "'fluid.rho' must be positive");
   expect_error(error_of(good, {"time.cfl=1.5"}), "'time.cfl' must be at most 1");
-  expect_error(error_of(good, {"particles.radius=0.3", "particles.count=1", "particles.shear_modulus=1.0",
-                               "particles.phi_redistribution=\"near\""}),
-               "'particles.phi_redistribution' must be \"local\" or \"global\" (got \"near\")");
 }
 
 TEST(Config, WrongTypesAreRejected) {

@@ -2,6 +2,8 @@
 // reversing deformation flow.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "../kernels/solid_transport.hpp"
 #include "diagnostics.hpp"
 #include "particle_seeding.hpp"
@@ -510,4 +512,50 @@ TEST(Solid, ThincShapeIsStationaryInASteadyTankTreadingFlow) {
       EXPECT_LT(tmax, 1e-3);
     }
   }
+}
+
+namespace {
+// Rigid rotation at rate w about the unit axis (ax, 0, az) through (xc, 0, zc)
+struct TiltedRotation {
+  double w, ax, az, xc, zc;
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(double x, double y, double z, double) const {
+    const double X = x - xc, Z = z - zc;
+    return {-w * az * y, w * (az * X - ax * Z), w * ax * y};
+  }
+};
+}  // namespace
+
+// The open acceptance test of phi's transport (issue 12, round 6), disabled
+// because the default scheme fails it: a sphere (4 points per radius) turned
+// rigidly at rate 0.5 about an axis tilted 45 degrees from z, for 50 time
+// units (4 turns), must stay round: (a - c) / (a + c) of its 3-D axes below
+// 1% (about z, ThincShapeIsStationary... above, it stays below 1e-3). Measured
+// at t = 50: THINC beta 3.5 0.056 (it grows steadily: 0.010, 0.022, 0.031,
+// 0.042 at t = 10..40); with beta scaled in each direction by the interface
+// normal's component (tried in round 6, not kept) 0.032; THINC beta 2 0.003,
+// WENO5 0.008. This is the transport's part of the coupled runs'
+// shape drift (results/README.md, "Where phi's shape goes"). Run it with
+// --gtest_also_run_disabled_tests.
+TEST(Solid, DISABLED_ThincKeepsASphereRoundTurningAboutATiltedAxis) {
+  Config c = couette_case(24, 24, 24,
+                          solid_keys({"walls.velocity=0.0", "grid.lx=6.0", "grid.ly=6.0", "grid.lz=6.0",
+                                      "particles.radius=1.0", "particles.phi_scheme=\"thinc\""}));
+  FlowSolver s(c, MPI_COMM_WORLD);
+  s.initialize();
+  const Grid g = s.grid();
+  const SolidViews q(s.solid()->fields());
+  const double cb[3] = {0, 0, 0};
+  fill_two_bodies(g, q.phi, InsideEllipsoid{1, 0, 1, 1.0}, std::array<double, 3>{3.0, 0.0, 3.0}.data(),
+                  InsideEllipsoid{1, 0, 1, 0}, cb);
+  s.solid()->fill_ghosts();
+  const double tilt = M_PI / 4;
+  const TiltedRotation flow{0.5, std::sin(tilt), std::cos(tilt), 3.0, 3.0};
+  for (int n = 0; n < 1000; ++n) transport_step(s, flow, 0.05);
+  ParticleTracker tr(s, {{ParticleShape{3.0, 0.0, 3.0}}});
+  tr.update();
+  const auto& p = tr.shapes()[0];
+  const double aniso = (p.a - p.c) / (p.a + p.c);
+  if (world_rank() == 0)
+    std::printf("  axes %.4f %.4f %.4f: (a - c) / (a + c) = %.4f\n", p.a, p.b, p.c, aniso);
+  EXPECT_LT(aniso, 0.01);
 }
