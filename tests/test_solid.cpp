@@ -532,8 +532,9 @@ struct TiltedRotation {
 // 1% (about z, ThincShapeIsStationary... above, it stays below 1e-3). Measured
 // at t = 50: THINC beta 3.5 0.056 (it grows steadily: 0.010, 0.022, 0.031,
 // 0.042 at t = 10..40); with beta scaled in each direction by the interface
-// normal's component (tried in round 6, not kept) 0.032; THINC beta 2 0.003,
-// WENO5 0.008. This is the transport's part of the coupled runs'
+// normal's component (tried in round 6, not kept) 0.032; THINC beta 3.0
+// 0.015, beta 2.5 0.0015, beta 2 0.003, WENO5 0.008; beta 3.5 at 8 points per
+// radius 0.017. This is the transport's part of the coupled runs'
 // shape drift (results/README.md, "Where phi's shape goes"). Run it with
 // --gtest_also_run_disabled_tests.
 TEST(Solid, DISABLED_ThincKeepsASphereRoundTurningAboutATiltedAxis) {
