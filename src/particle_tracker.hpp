@@ -1,4 +1,4 @@
-// Particle identity for diagnostics: tracked centroids.
+// Particle identity for diagnostics: tracked centroids and shapes.
 //
 // Each particle keeps a centroid and its last measured ellipsoid, replicated
 // on every rank. A cell with phi > 0 belongs to the particle it is nearest
