@@ -99,14 +99,17 @@ ParticleTracker::ParticleTracker(FlowSolver& s, const std::vector<ParticleShape>
       shapes_(start),
       centres_("tracker_centres", start.size()),
       reach_("tracker_reach", start.size()),
-      moments_("tracker_moments", start.size()) {}
+      moments_("tracker_moments", start.size()),
+      centres_host_(Kokkos::create_mirror_view(centres_)),
+      reach_host_(Kokkos::create_mirror_view(reach_)),
+      moments_host_(Kokkos::create_mirror_view(moments_)) {}
 
 void ParticleTracker::update() {
   const int n = int(shapes_.size());
   if (n == 0 || !s_.solid()) return;
   const Real r = s_.config().particles.radius;
-  auto ch = Kokkos::create_mirror_view(centres_);
-  auto rh = Kokkos::create_mirror_view(reach_);
+  const auto ch = centres_host_;
+  const auto rh = reach_host_;
   for (int m = 0; m < n; ++m) {
     const ParticleShape& p = shapes_[m];
     ch(m, 0) = p.x, ch(m, 1) = p.y, ch(m, 2) = p.z;
@@ -159,7 +162,7 @@ void ParticleTracker::update() {
         // the core, phi > 0.5: its ellipsoid sets the reach
         for (int e = 0; e < 10; ++e) Kokkos::atomic_add(&mom(best, 16 + e), mv[e]);
       });
-  auto mh = Kokkos::create_mirror_view(moments_);
+  const auto mh = moments_host_;
   Kokkos::deep_copy(mh, moments_);
   std::vector<double> buf(mh.data(), mh.data() + n_moments * n);
   MPI_Allreduce(MPI_IN_PLACE, buf.data(), n_moments * n, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);

@@ -59,6 +59,10 @@ class ParticleTracker {
   // over the core (phi > 0.5); row m contiguous
   static constexpr int n_moments = 26;
   Kokkos::View<Real* [n_moments], Kokkos::LayoutRight, MemSpace> moments_;
+  // their host copies, made once (update() runs at every series row)
+  decltype(Kokkos::create_mirror_view(centres_)) centres_host_;
+  decltype(Kokkos::create_mirror_view(reach_)) reach_host_;
+  decltype(Kokkos::create_mirror_view(moments_)) moments_host_;
 };
 
 }  // namespace softflow
