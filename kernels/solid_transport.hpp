@@ -22,6 +22,7 @@
 #include "solid_b_fallback.hpp"
 #include "solid_state.hpp"
 #include "velocity_gradient.hpp"
+#include "mthinc.hpp"
 #include "thinc.hpp"
 #include "weno5.hpp"
 
@@ -62,14 +63,31 @@ KOKKOS_INLINE_FUNCTION Real thinc_z(const Field3& q, Real vel, const Thinc& t, R
                     Kokkos::fabs(vel) * sdz);
 }
 
-// phi's face values: THINC with steepness beta, or WENO5 (beta <= 0).
+// phi's face values: THINC with steepness beta (direction by direction, or
+// MTHINC's plane with multi_d), or WENO5 (beta <= 0).
 // stage_dt: the time this RK3 stage advances phi by ((gamma + zeta) dt, the
 // stage's share of the step), which sets THINC's swept region at each face.
 struct PhiScheme {
   Real thinc_beta = 0;
+  bool multi_d = false;
   Real stage_dt = 0;
   bool thinc() const { return thinc_beta > 0; }
 };
+
+// Youngs' gradient of phi at a cell: central differences averaged over the
+// 3x3 neighbours across, weights 1-2-1 (smoother than one central
+// difference, so the normal of a curved interface does not jitter cell to cell)
+KOKKOS_INLINE_FUNCTION void youngs_gradient(const Field3& q, int i, int j, int k, Real g[3]) {
+  const Real w[3] = {1, 2, 1};
+  g[0] = g[1] = g[2] = 0;
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b) {
+      const Real ww = w[a + 1] * w[b + 1];
+      g[0] += ww * (q(i + 1, j + a, k + b) - q(i - 1, j + a, k + b));
+      g[1] += ww * (q(i + a, j + 1, k + b) - q(i + a, j - 1, k + b));
+      g[2] += ww * (q(i + a, j + b, k + 1) - q(i + a, j + b, k - 1));
+    }
+}
 
 KOKKOS_INLINE_FUNCTION Real larger(Real a, Real b) { return a > b ? a : b; }
 
@@ -87,15 +105,40 @@ KOKKOS_INLINE_FUNCTION Real stencil_max(const Field3& phi, int i, int j, int k) 
 }
 
 // Face fluxes u q of one field: x(i, j, k) at face i+1/2, y at j+1/2, z at
-// k+1/2. Scratch of the transport, allocated once.
+// k+1/2; with MTHINC also each cell's plane (normal n, offset d). Scratch of
+// the transport, allocated once.
 struct FaceFluxes {
   Field3 x, y, z;
+  Field3 nx, ny, nz, d;  // MTHINC only
   FaceFluxes() = default;
-  explicit FaceFluxes(const Grid& g)
+  explicit FaceFluxes(const Grid& g, bool planes = false)
       : x("flux_x", g.sx(), g.sy(), g.sz()),
         y("flux_y", g.sx(), g.sy(), g.sz()),
-        z("flux_z", g.sx(), g.sy(), g.sz()) {}
+        z("flux_z", g.sx(), g.sy(), g.sz()) {
+    if (!planes) return;
+    nx = Field3("plane_nx", g.sx(), g.sy(), g.sz());
+    ny = Field3("plane_ny", g.sx(), g.sy(), g.sz());
+    nz = Field3("plane_nz", g.sx(), g.sy(), g.sz());
+    d = Field3("plane_d", g.sx(), g.sy(), g.sz());
+  }
 };
+
+// the stored plane of cell (i, j, k); n = 0 marks a cell without interface
+KOKKOS_INLINE_FUNCTION MthincPlane stored_plane(const FaceFluxes& f, int i, int j, int k) {
+  MthincPlane p{{f.nx(i, j, k), f.ny(i, j, k), f.nz(i, j, k)}, f.d(i, j, k), -1};
+  const Real a0 = Kokkos::fabs(p.n[0]), a1 = Kokkos::fabs(p.n[1]), a2 = Kokkos::fabs(p.n[2]);
+  if (a0 + a1 + a2 == 0) return p;
+  p.dom = a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
+  return p;
+}
+
+// MTHINC's face values: the upwind cell's plane swept over the stage
+KOKKOS_INLINE_FUNCTION Real mthinc_face(const FaceFluxes& f, const Field3& q, Real vel, Real beta, Real sd,
+                                        int ax, int i, int j, int k) {
+  const bool pos = vel >= 0;
+  const int iu = pos ? i : i + (ax == 0), ju = pos ? j : j + (ax == 1), ku = pos ? k : k + (ax == 2);
+  return mthinc_face_value(stored_plane(f, iu, ju, ku), q(iu, ju, ku), beta, ax, pos, Kokkos::fabs(vel) * sd);
+}
 
 // The advection part of the right-hand sides, -div(u q) of the seven fields,
 // then B's upper-convected source. Each face flux is reconstructed once and
@@ -127,7 +170,29 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   const Range3 faces{active.ib - 1, active.ie, active.jb - 1, active.je, active.kb - 1, active.ke};
   for (int m = 0; m < n_solid_fields; ++m) {
     const Field3 q = f.q[m], r = rhs.q[m];
-    if (m == 0 && scheme.thinc()) {
+    if (m == 0 && scheme.thinc() && scheme.multi_d) {
+      const Real beta = scheme.thinc_beta;
+      const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
+      const FaceFluxes fl = flux;
+      // the planes of every cell upwind of a face: one more on the high side
+      const Range3 cells{faces.ib, faces.ie + 1, faces.jb, faces.je + 1, faces.kb, faces.ke + 1};
+      par_for(
+          "solid_transport_mthinc_planes", cells, KOKKOS_LAMBDA(int i, int j, int k) {
+            Real gr[3];
+            youngs_gradient(q, i, j, k, gr);
+            const MthincPlane p = mthinc_fit(q(i, j, k), gr, beta);
+            fl.nx(i, j, k) = p.dom < 0 ? 0 : p.n[0];
+            fl.ny(i, j, k) = p.dom < 0 ? 0 : p.n[1];
+            fl.nz(i, j, k) = p.dom < 0 ? 0 : p.n[2];
+            fl.d(i, j, k) = p.d;
+          });
+      par_for(
+          "solid_transport_flux_mthinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+            fx(i, j, k) = u(i, j, k) * mthinc_face(fl, q, u(i, j, k), beta, sdx, 0, i, j, k);
+            fy(i, j, k) = v(i, j, k) * mthinc_face(fl, q, v(i, j, k), beta, sdy, 1, i, j, k);
+            fz(i, j, k) = w(i, j, k) * mthinc_face(fl, q, w(i, j, k), beta, sdz, 2, i, j, k);
+          });
+    } else if (m == 0 && scheme.thinc()) {
       const Thinc t = make_thinc(scheme.thinc_beta);
       const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
       par_for(

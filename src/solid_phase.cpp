@@ -16,7 +16,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
       q_(g, "solid"),
       rhs_now_(g, "solid_rhs_now"),
       rhs_before_(g, "solid_rhs_before"),
-      flux_(g),
+      flux_(g, cfg.particles.phi_scheme == "mthinc"),
       force_now_(g, "elastic_now"),
       force_before_(g, "elastic_before") {
   auto f = [&](const char* name) { return Field3(std::string(name), g.sx(), g.sy(), g.sz()); };
@@ -28,7 +28,8 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   stress_.nu_f = cfg.nu();
   stress_.dnu = (cfg.solid_viscosity() - cfg.fluid.mu) / cfg.fluid.rho;
   stress_.g_rho = cfg.shear_modulus() / cfg.fluid.rho;
-  phi_scheme_.thinc_beta = cfg.particles.phi_scheme == "thinc" ? cfg.particles.thinc_beta : 0;
+  phi_scheme_.thinc_beta = cfg.particles.phi_scheme != "weno5" ? cfg.particles.thinc_beta : 0;
+  phi_scheme_.multi_d = cfg.particles.phi_scheme == "mthinc";
   extend_b_ = cfg.particles.b_extension;
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
