@@ -291,8 +291,8 @@ Config parse_config(const std::string& text, const std::string& name,
       r.positive("viscosity_ratio", p.viscosity_ratio);
       r.read("phi_scheme", p.phi_scheme, false);
       if (p.phi_scheme != "thinc" && p.phi_scheme != "mthinc" && p.phi_scheme != "weno5")
-        throw InputError("'particles.phi_scheme' must be \"thinc\", \"mthinc\" or \"weno5\" (got \"" + p.phi_scheme +
-                         "\")");
+        throw InputError("'particles.phi_scheme' must be \"thinc\", \"mthinc\" or \"weno5\" (got \"" +
+                         p.phi_scheme + "\")");
       r.read("thinc_beta", p.thinc_beta, false);
       if (!(p.thinc_beta >= 0.5 && p.thinc_beta <= 10))
         throw InputError("'particles.thinc_beta' must be in [0.5, 10] (got " + std::to_string(p.thinc_beta) +

@@ -265,14 +265,14 @@ LeVequeResult run_leveque(int n, const std::string& scheme) {
 // most at first order (ratio 0.5 per halving); 16^3 resolves the sphere's
 // radius by 2.4 cells only.
 TEST(Solid, LeVequeDeformationReturnsTheSphereAndConservesVolume) {
-  for (const std::string scheme : {"weno5", "thinc"}) {
+  for (const std::string scheme : {"weno5", "thinc", "mthinc"}) {
     const LeVequeResult a = run_leveque(16, scheme), b = run_leveque(32, scheme);
     const double q = std::log(a.l1 / b.l1) / std::log(2.0);
     if (world_rank() == 0) std::printf("  %s: observed L1 order %.2f\n", scheme.c_str(), q);
     EXPECT_LT(b.l1, 0.75 * a.l1) << scheme << ": the shape error must decrease under refinement";
     // the issue's bound: below 3 cells after the deformation (at rest, the
     // sampled sphere's band is about 1.3 cells)
-    if (scheme == "thinc") EXPECT_LT(b.thickness, 3.0);
+    if (scheme != "weno5") EXPECT_LT(b.thickness, 3.0);
   }
 }
 
@@ -447,10 +447,10 @@ TEST(Solid, TrackerReachFollowsALongParticleAndSplitsNeighboursWhereTheirEllipso
 namespace {
 // phi carried by THINC alone: a 6 x 6 x 6 box at 4 points per radius
 // (r = 1), walls at rest, for the prescribed-velocity tests below
-Config thinc_transport_box() {
+Config thinc_transport_box(const std::string& scheme = "thinc") {
   return couette_case(24, 24, 24,
                       solid_keys({"walls.velocity=0.0", "grid.lx=6.0", "grid.ly=6.0", "grid.lz=6.0",
-                                  "particles.radius=1.0", "particles.phi_scheme=\"thinc\""}));
+                                  "particles.radius=1.0", "particles.phi_scheme=\"" + scheme + "\""}));
 }
 // The velocity of steady tank-treading: streamlines x'^2/a^2 + y'^2/b^2 =
 // const in axes turned by theta (cos c, sin n) about (xc, y = 0), turning at
@@ -530,20 +530,12 @@ struct TiltedRotation {
 };
 }  // namespace
 
-// The open acceptance test of phi's transport (issue 12, round 6), disabled
-// because the default scheme fails it: a sphere (4 points per radius) turned
-// rigidly at rate 0.5 about an axis tilted 45 degrees from z, for 50 time
-// units (4 turns), must stay round: (a - c) / (a + c) of its 3-D axes below
-// 1% (about z, ThincShapeIsStationary... above, it stays below 1e-3). Measured
-// at t = 50: THINC beta 3.5 0.056 (it grows steadily: 0.010, 0.022, 0.031,
-// 0.042 at t = 10..40); with beta scaled in each direction by the interface
-// normal's component (tried in round 6, not kept) 0.032; THINC beta 3.0
-// 0.015, beta 2.5 0.0015, beta 2 0.003, WENO5 0.008; beta 3.5 at 8 points per
-// radius 0.017. This is the transport's part of the coupled runs'
-// shape drift (results/README.md, "Where phi's shape goes"). Run it with
-// --gtest_also_run_disabled_tests.
-TEST(Solid, DISABLED_ThincKeepsASphereRoundTurningAboutATiltedAxis) {
-  Config c = thinc_transport_box();
+namespace {
+// A sphere (4 points per radius) turned rigidly by `scheme` at rate 0.5 about
+// an axis tilted 45 degrees from z, for 50 time units (4 turns): the
+// anisotropy (a - c) / (a + c) of its 3-D axes at the end
+double tilted_turn_anisotropy(const std::string& scheme) {
+  Config c = thinc_transport_box(scheme);
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
   const Grid g = s.grid();
@@ -560,6 +552,31 @@ TEST(Solid, DISABLED_ThincKeepsASphereRoundTurningAboutATiltedAxis) {
   const auto& p = tr.shapes()[0];
   const double aniso = (p.a - p.c) / (p.a + p.c);
   if (world_rank() == 0)
-    std::printf("  axes %.4f %.4f %.4f: (a - c) / (a + c) = %.4f\n", p.a, p.b, p.c, aniso);
-  EXPECT_LT(aniso, 0.01);
+    std::printf("  %s: axes %.4f %.4f %.4f: (a - c) / (a + c) = %.4f\n", scheme.c_str(), p.a, p.b, p.c,
+                aniso);
+  return aniso;
+}
+}  // namespace
+
+// phi's transport must not change a shape by turning it (issue 12): the
+// sphere above must stay round, (a - c) / (a + c) below 1% (about z,
+// ThincShapeIsStationary... above, it stays below 1e-3). MTHINC gives 0.0017
+// (0.0020 at beta 2.5, 0.0018 at beta 5), one step across each interface
+// cell along its normal.
+TEST(Solid, MthincKeepsASphereRoundTurningAboutATiltedAxis) {
+  EXPECT_LT(tilted_turn_anisotropy("mthinc"), 0.01);
+}
+
+// The same with THINC direction by direction, disabled because it fails:
+// each direction's step has the steepness beta whatever the interface's
+// orientation, so the compression is anisotropic. Measured at t = 50: THINC
+// beta 3.5 0.056 (it grows steadily: 0.010, 0.022, 0.031, 0.042 at t =
+// 10..40); with beta scaled in each direction by the interface normal's
+// component (tried in round 6, not kept) 0.032; THINC beta 3.0 0.015, beta
+// 2.5 0.0015, beta 2 0.003, WENO5 0.008; beta 3.5 at 8 points per radius
+// 0.017. This is the transport's part of the coupled runs' shape drift
+// (results/README.md, "Where phi's shape goes"). Run it with
+// --gtest_also_run_disabled_tests.
+TEST(Solid, DISABLED_ThincKeepsASphereRoundTurningAboutATiltedAxis) {
+  EXPECT_LT(tilted_turn_anisotropy("thinc"), 0.01);
 }

@@ -1,0 +1,129 @@
+// MTHINC (kernels/mthinc.hpp): the plane's fit, its swept means, and its
+// reduction to 1-D THINC for a grid-aligned interface. Transport with it:
+// test_solid.cpp (LeVeque's deformation, the sphere turning about a tilted
+// axis) and test_thinc.cpp (the square wave).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "../kernels/mthinc.hpp"
+#include "../kernels/thinc.hpp"
+
+using namespace softflow;
+
+namespace {
+// unit normals of many orientations, grid-aligned and diagonal ones included
+std::vector<std::array<double, 3>> normals() {
+  std::vector<std::array<double, 3>> ns = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1},
+                                           {1, 1, 0}, {1, -1, 1}, {-0.2, 0.9, 0.4}};
+  for (int a = 0; a < 12; ++a) {
+    const double th = 0.31 + 0.53 * a, ph = 0.17 + 0.29 * a;  // spread over the sphere
+    ns.push_back({std::sin(ph) * std::cos(th), std::sin(ph) * std::sin(th), std::cos(ph)});
+  }
+  for (auto& n : ns) {
+    const double s = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& c : n) c /= s;
+  }
+  return ns;
+}
+// H's mean over the box lo..hi by the midpoint rule on m^3 points
+double brute_mean(const MthincPlane& p, double beta, const double lo[3], const double hi[3], int m) {
+  double s = 0;
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b)
+      for (int c = 0; c < m; ++c) {
+        const double X = lo[0] + (hi[0] - lo[0]) * (a + 0.5) / m, Y = lo[1] + (hi[1] - lo[1]) * (b + 0.5) / m,
+                     Z = lo[2] + (hi[2] - lo[2]) * (c + 0.5) / m;
+        s += 0.5 * (1 + std::tanh(beta * (p.n[0] * X + p.n[1] * Y + p.n[2] * Z + p.d)));
+      }
+  return s / (double(m) * m * m);
+}
+}  // namespace
+
+// The fit puts the plane where H's cell mean (by the scheme's quadrature) is
+// the cell's value, to the Newton tolerance; the quadrature itself is within
+// 1e-3 of the exact mean (3-point Gauss across a step of steepness <= 5 over
+// one cell: measured at most 4e-4 here).
+TEST(Mthinc, FitReproducesTheCellValueAndItsQuadratureTheExactMean) {
+  const double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
+  double worst = 0;
+  for (double beta : {1.0, 2.5, 3.5, 5.0})
+    for (const auto& n : normals())
+      for (double q : {2e-6, 1e-3, 0.1, 0.5, 0.77, 0.999, 1 - 2e-6}) {
+        const double g[3] = {3 * n[0], 3 * n[1], 3 * n[2]};  // any length: the fit normalises
+        const MthincPlane p = mthinc_fit(q, g, beta);
+        ASSERT_GE(p.dom, 0);
+        EXPECT_NEAR(mthinc_box_mean(p, beta, lo, hi), q, 1e-13) << "beta " << beta << " q " << q;
+        for (int a = 0; a < 3; ++a) EXPECT_NEAR(p.n[a], n[a], 1e-15);
+        EXPECT_GE(std::fabs(p.n[p.dom]), std::fabs(p.n[(p.dom + 1) % 3]));
+        EXPECT_GE(std::fabs(p.n[p.dom]), std::fabs(p.n[(p.dom + 2) % 3]));
+        const double e = std::fabs(brute_mean(p, beta, lo, hi, 80) - q);
+        worst = std::max(worst, e);
+        EXPECT_LT(e, 1e-3) << "beta " << beta << " q " << q;
+      }
+  std::printf("  largest quadrature error of a cell mean: %.1e\n", worst);
+}
+
+TEST(Mthinc, CellsWithoutAnInterfaceGiveTheirOwnValue) {
+  const double g[3] = {1, 0.5, 0}, flat[3] = {0, 0, 0};
+  for (double q : {0.0, 5e-7, 1.0, 1 - 5e-7}) {
+    const MthincPlane p = mthinc_fit(q, g, 3.5);
+    EXPECT_LT(p.dom, 0);
+    EXPECT_EQ(mthinc_face_value(p, q, 3.5, 0, true, 0.3), q);
+  }
+  const MthincPlane p = mthinc_fit(0.4, flat, 3.5);  // an isolated cell: no normal
+  EXPECT_LT(p.dom, 0);
+  EXPECT_EQ(mthinc_face_value(p, 0.4, 3.5, 1, false, 0.3), 0.4);
+}
+
+// A plane across x is 1-D THINC's step along x: same steepness, same cell
+// mean, so the same swept means on both faces (THINC's X in [0, 1] is
+// MTHINC's X + 1/2).
+TEST(Mthinc, AGridAlignedPlaneIsThinc) {
+  for (double beta : {1.0, 3.5, 8.0})
+    for (double q : {0.01, 0.3, 0.5, 0.9})
+      for (double nu : {0.0, 0.05, 0.4, 1.0}) {
+        const Thinc t = make_thinc(beta);
+        const double rising[3] = {1, 0, 0}, falling[3] = {-1, 0, 0};
+        const MthincPlane up = mthinc_fit(q, rising, beta), down = mthinc_fit(q, falling, beta);
+        EXPECT_NEAR(mthinc_face_value(up, q, beta, 0, true, nu), thinc_right_swept(0, q, 1, t, nu), 1e-11)
+            << "beta " << beta << " q " << q << " nu " << nu;
+        // the left face of a falling step is the right face of the mirrored rising one
+        EXPECT_NEAR(mthinc_face_value(down, q, beta, 0, false, nu), thinc_right_swept(0, q, 1, t, nu), 1e-11);
+      }
+}
+
+// Swept means against the midpoint rule, on every face of cells of every
+// orientation; and an explicit step at Courant number nu out of one face
+// keeps the cell in [0, 1] when the flux runs along the normal's largest
+// component (there the slab and the cell share the quadrature nodes across,
+// so the slab holds no more than the cell). Across it the slab's own Gauss
+// nodes differ from the cell's: the excess is the quadrature error, < 1e-3.
+TEST(Mthinc, SweptMeansAreTheStepsMeansAndKeepAnEulerStepBounded) {
+  const double beta = 3.5;
+  for (const auto& n : normals())
+    for (double q : {1e-5, 0.2, 0.5, 0.95})
+      for (int ax = 0; ax < 3; ++ax)
+        for (bool high : {true, false})
+          for (double nu : {0.05, 0.4, 1.0}) {
+            const double g[3] = {n[0], n[1], n[2]};
+            const MthincPlane p = mthinc_fit(q, g, beta);
+            const double f = mthinc_face_value(p, q, beta, ax, high, nu);
+            double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
+            if (high)
+              lo[ax] = 0.5 - nu;
+            else
+              hi[ax] = -0.5 + nu;
+            EXPECT_NEAR(f, brute_mean(p, beta, lo, hi, 60), 2e-3)
+                << "ax " << ax << " q " << q << " nu " << nu;
+            EXPECT_GE(f, 0.0);
+            EXPECT_LE(f, 1.0);
+            const double tol = ax == p.dom ? 1e-13 : 1e-3;
+            EXPECT_GE(q - nu * f, -tol) << "out of the cell: ax " << ax << " q " << q << " nu " << nu;
+            EXPECT_LE(q + nu * (1 - f), 1 + tol) << "into the cell: ax " << ax << " q " << q << " nu " << nu;
+          }
+}
