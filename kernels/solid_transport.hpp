@@ -178,9 +178,10 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
       const Range3 cells{faces.ib, faces.ie + 1, faces.jb, faces.je + 1, faces.kb, faces.ke + 1};
       par_for(
           "solid_transport_mthinc_planes", cells, KOKKOS_LAMBDA(int i, int j, int k) {
-            Real gr[3];
-            youngs_gradient(q, i, j, k, gr);
-            const MthincPlane p = mthinc_fit(q(i, j, k), gr, beta);
+            Real gr[3] = {0, 0, 0};
+            const Real qc = q(i, j, k);
+            if (qc > mthinc_eps && qc < 1 - mthinc_eps) youngs_gradient(q, i, j, k, gr);
+            const MthincPlane p = mthinc_fit(qc, gr, beta);
             fl.nx(i, j, k) = p.dom < 0 ? 0 : p.n[0];
             fl.ny(i, j, k) = p.dom < 0 ? 0 : p.n[1];
             fl.nz(i, j, k) = p.dom < 0 ? 0 : p.n[2];

@@ -5,50 +5,61 @@
 # fallback, no det B projection) and with the default ones (THINC phi, B
 # fallback, B extended from the solid side, det B projected), alternated ROUNDS times in one run so both
 # see the same machine load; then the ratio of the median step times.
+# VARIANTS="old new mthinc" adds the default numerics with MTHINC for phi.
 #   perf/solid_cost.sh            # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
-# Environment: ROUNDS (default 3), OMP_NUM_THREADS (default all cores), BIN.
+# Environment: ROUNDS (default 3), VARIANTS (default "old new"),
+# OMP_NUM_THREADS (default all cores), BIN.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${BIN:-build/perf/softflow-perf}
 rounds=${ROUNDS:-3}
+variants=${VARIANTS:-old new}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(nproc)}
 out=perf/results/solid_cost
 mkdir -p "$out"
 old=(--set particles.phi_scheme=weno5 --set particles.b_extension=false --set particles.unimodular_b=false
      --set particles.b_fallback=false)
 for r in $(seq 1 "$rounds"); do
-  for v in old new; do
+  for v in $variants; do
     extra=()
     [ $v = old ] && extra=("${old[@]}")
+    [ $v = mthinc ] && extra=(--set particles.phi_scheme=mthinc)
     scripts/toolchain.sh run "$bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       "${extra[@]}" --warmup 3 --steps 5 --reps 5 --json "$out/${v}_$r.json" >/dev/null
     echo "solid_cost: round $r $v done" >&2
   done
 done
-python3 - "$out" "$rounds" <<'PY'
+python3 - "$out" "$rounds" $variants <<'PY'
 import json, statistics, sys
-out, rounds = sys.argv[1], int(sys.argv[2])
+out, rounds, variants = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
 def step(v, r):
     return json.load(open(f"{out}/{v}_{r}.json"))["step"]["seconds"]["median"]
 def kern(v, r):
     k = json.load(open(f"{out}/{v}_{r}.json"))["kernels"]
     return {n: d["seconds_per_step"]["median"] for n, d in k.items() if "solid" in n}
-old = [step("old", r) for r in range(1, rounds + 1)]
-new = [step("new", r) for r in range(1, rounds + 1)]
-ratios = [n / o for n, o in zip(new, old)]
+names = {"old": "old", "new": "new (THINC)", "mthinc": "new with MTHINC"}
+steps = {v: [step(v, r) for r in range(1, rounds + 1)] for v in variants}
+others = [v for v in variants if v != "old"]
 lines = ["# Cost of the solid phase's numerics (perf/solid_cost.sh)", "",
          "Dense scene (cases/phi011_ca02.toml, 64 x 40 x 64, Phi = 0.11, Ca = 0.2, implicit), "
-         "the old numerics (WENO5 phi, no B fallback, no B extension, no projection) and the default ones, "
+         "the old numerics (WENO5 phi, no B fallback, no B extension, no projection) and the default ones "
+         "(THINC phi" + (", and the same with MTHINC phi" if "mthinc" in variants else "") + "), "
          f"alternated {rounds} times; median step seconds of each harness run.", "",
-         "| round | old step (ms) | new step (ms) | new / old |", "|---|---|---|---|"]
+         "| round | " + " | ".join(f"{names[v]} step (ms)" for v in variants) + " | "
+         + " | ".join(f"{names[v]} / old" for v in others) + " |",
+         "|---|" + "---|" * (len(variants) + len(others))]
 for r in range(rounds):
-    lines.append(f"| {r + 1} | {1e3 * old[r]:.1f} | {1e3 * new[r]:.1f} | {ratios[r]:.3f} |")
-lines += ["", f"Median ratio new / old: {statistics.median(ratios):.3f} (the issue's limit: 1.3).", "",
-          "Solid kernels, median seconds per step in the last round:", "",
-          "| kernel | old | new |", "|---|---|---|"]
-ko, kn = kern("old", rounds), kern("new", rounds)
-for n in sorted(set(ko) | set(kn)):
-    lines.append(f"| {n} | {1e3 * ko.get(n, 0):.2f} ms | {1e3 * kn.get(n, 0):.2f} ms |")
+    lines.append(f"| {r + 1} | " + " | ".join(f"{1e3 * steps[v][r]:.1f}" for v in variants) + " | "
+                 + " | ".join(f"{steps[v][r] / steps['old'][r]:.3f}" for v in others) + " |")
+lines.append("")
+for v in others:
+    ratio = statistics.median(s / o for s, o in zip(steps[v], steps["old"]))
+    lines.append(f"Median ratio {names[v]} / old: {ratio:.3f} (the issue's limit: 1.3).")
+lines += ["", "Solid kernels, median seconds per step in the last round:", "",
+          "| kernel | " + " | ".join(names[v] for v in variants) + " |", "|---|" + "---|" * len(variants)]
+ks = {v: kern(v, rounds) for v in variants}
+for n in sorted(set().union(*ks.values())):
+    lines.append(f"| {n} | " + " | ".join(f"{1e3 * ks[v].get(n, 0):.2f} ms" for v in variants) + " |")
 open(f"{out}/solid_cost.md", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 PY

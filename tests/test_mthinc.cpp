@@ -46,8 +46,10 @@ double brute_mean(const MthincPlane& p, double beta, const double lo[3], const d
 
 // The fit puts the plane where H's cell mean (by the scheme's quadrature) is
 // the cell's value, to the Newton tolerance; the quadrature itself is within
-// 1e-3 of the exact mean (3-point Gauss across a step of steepness <= 5 over
-// one cell: measured at most 4e-4 here).
+// 5e-3 of the exact mean (2-point Gauss across a step of steepness <= 5 over
+// one cell: measured at most 3.5e-3 here, 2.4e-3 at beta = 3.5; 3 points
+// gave 2e-4 at 2.6 times the cost, and the same tilted-axis turn in
+// test_solid.cpp to 4 digits).
 TEST(Mthinc, FitReproducesTheCellValueAndItsQuadratureTheExactMean) {
   const double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
   double worst = 0;
@@ -63,7 +65,7 @@ TEST(Mthinc, FitReproducesTheCellValueAndItsQuadratureTheExactMean) {
         EXPECT_GE(std::fabs(p.n[p.dom]), std::fabs(p.n[(p.dom + 2) % 3]));
         const double e = std::fabs(brute_mean(p, beta, lo, hi, 80) - q);
         worst = std::max(worst, e);
-        EXPECT_LT(e, 1e-3) << "beta " << beta << " q " << q;
+        EXPECT_LT(e, 5e-3) << "beta " << beta << " q " << q;
       }
   std::printf("  largest quadrature error of a cell mean: %.1e\n", worst);
 }
@@ -102,9 +104,12 @@ TEST(Mthinc, AGridAlignedPlaneIsThinc) {
 // keeps the cell in [0, 1] when the flux runs along the normal's largest
 // component (there the slab and the cell share the quadrature nodes across,
 // so the slab holds no more than the cell). Across it the slab's own Gauss
-// nodes differ from the cell's: the excess is the quadrature error, < 1e-3.
+// nodes differ from the cell's: the excess is the quadrature error. The
+// swept means' own quadrature error: measured at most 7.1e-3 (a slab of
+// width 0.05 with its 2 nodes across the step), bound 1e-2.
 TEST(Mthinc, SweptMeansAreTheStepsMeansAndKeepAnEulerStepBounded) {
   const double beta = 3.5;
+  double worst = 0;
   for (const auto& n : normals())
     for (double q : {1e-5, 0.2, 0.5, 0.95})
       for (int ax = 0; ax < 3; ++ax)
@@ -118,12 +123,14 @@ TEST(Mthinc, SweptMeansAreTheStepsMeansAndKeepAnEulerStepBounded) {
               lo[ax] = 0.5 - nu;
             else
               hi[ax] = -0.5 + nu;
-            EXPECT_NEAR(f, brute_mean(p, beta, lo, hi, 60), 2e-3)
-                << "ax " << ax << " q " << q << " nu " << nu;
+            const double e = std::fabs(f - brute_mean(p, beta, lo, hi, 60));
+            worst = std::max(worst, e);
+            EXPECT_LT(e, 1e-2) << "ax " << ax << " q " << q << " nu " << nu;
             EXPECT_GE(f, 0.0);
             EXPECT_LE(f, 1.0);
-            const double tol = ax == p.dom ? 1e-13 : 1e-3;
+            const double tol = ax == p.dom ? 1e-13 : 5e-3;
             EXPECT_GE(q - nu * f, -tol) << "out of the cell: ax " << ax << " q " << q << " nu " << nu;
             EXPECT_LE(q + nu * (1 - f), 1 + tol) << "into the cell: ax " << ax << " q " << q << " nu " << nu;
           }
+  std::printf("  largest quadrature error of a swept mean: %.1e\n", worst);
 }
