@@ -30,8 +30,13 @@ struct MthincPlane {
   int dom;  // the axis of n's largest component: integrated analytically
 };
 
-// cells within this of 0 or 1 carry no interface
-constexpr Real mthinc_eps = 1e-6;
+// cells within this of 0 or 1 carry no interface: phi's cut-off
+// (phi_zero_cut, kernels/solid_transport.hpp), so every cell the transport
+// keeps non-zero gets its plane. A larger value (1e-6 was tried) hands the
+// tails to first-order upwinding, which spreads them: a haze of phi ~1e-9
+// reached cells 8 away from a particle turning for 50 time units, and the
+// dilute runs' active region grew to the whole box.
+constexpr Real mthinc_eps = 1e-10;
 
 // ln cosh x without overflow
 KOKKOS_INLINE_FUNCTION Real log_cosh(Real x) {
@@ -97,8 +102,8 @@ KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta
     if (Kokkos::fabs(p.n[a]) > Kokkos::fabs(p.n[p.dom])) p.dom = a;
   const Real lo[3] = {Real(-0.5), Real(-0.5), Real(-0.5)}, hi[3] = {Real(0.5), Real(0.5), Real(0.5)};
   // |n . X| <= sqrt(3)/2 in the cell, and tanh(beta d) = +-(1 - 2 eps) needs
-  // |d| < 7.3 / beta: the root lies in [-bound, bound]
-  Real dl = -(1 + 10 / beta), dh = 1 + 10 / beta;
+  // |d| < 11.6 / beta: the root lies in [-bound, bound]
+  Real dl = -(1 + 13 / beta), dh = 1 + 13 / beta;
   // start from the root of the grid-aligned plane (1-D THINC's, closed form:
   // e^{2 beta d} = (e^{2 beta q} - 1) / (e^beta (1 - e^{2 beta (q - 1)}))):
   // 3 evaluations on average from there, 8 from d = 0

@@ -55,7 +55,7 @@ TEST(Mthinc, FitReproducesTheCellValueAndItsQuadratureTheExactMean) {
   double worst = 0;
   for (double beta : {1.0, 2.5, 3.5, 5.0})
     for (const auto& n : normals())
-      for (double q : {2e-6, 1e-3, 0.1, 0.5, 0.77, 0.999, 1 - 2e-6}) {
+      for (double q : {2e-10, 1e-7, 1e-3, 0.1, 0.5, 0.77, 0.999, 1 - 1e-7, 1 - 2e-10}) {
         const double g[3] = {3 * n[0], 3 * n[1], 3 * n[2]};  // any length: the fit normalises
         const MthincPlane p = mthinc_fit(q, g, beta);
         ASSERT_GE(p.dom, 0);
@@ -72,7 +72,7 @@ TEST(Mthinc, FitReproducesTheCellValueAndItsQuadratureTheExactMean) {
 
 TEST(Mthinc, CellsWithoutAnInterfaceGiveTheirOwnValue) {
   const double g[3] = {1, 0.5, 0}, flat[3] = {0, 0, 0};
-  for (double q : {0.0, 5e-7, 1.0, 1 - 5e-7}) {
+  for (double q : {0.0, 5e-11, 1.0, 1 - 5e-11}) {
     const MthincPlane p = mthinc_fit(q, g, 3.5);
     EXPECT_LT(p.dom, 0);
     EXPECT_EQ(mthinc_face_value(p, q, 3.5, 0, true, 0.3), q);
