@@ -11,9 +11,13 @@
 // depends on the interface's orientation, and a sphere turning about a tilted
 // axis drifts to an ellipsoid (tests/test_solid.cpp, the tilted-axis test).
 // Here the step has one steepness, along the normal, whatever the orientation.
-// The integrals: analytic (ln cosh) along the normal's largest component, 2x2
-// Gauss-Legendre across it; d by safeguarded Newton on the same quadrature,
-// so the cell mean of the reconstruction is the cell's value to 1e-13.
+// The integrals: analytic along the normal's largest component, 2x2
+// Gauss-Legendre across it (exact for cubics; against the exact means, within
+// 3.5e-3 for a cell and 7e-3 for a thin swept slab, tests/test_mthinc.cpp;
+// 3x3 nodes were 10 times closer, cost 2.6 times as much and gave the same
+// tilted-axis turn to 4 digits); d by safeguarded Newton on the same
+// quadrature, so the cell mean of the reconstruction is the cell's value to
+// 1e-13 and the scheme stays conservative and bounded whatever its error.
 // Point-wise and backend-neutral, unit-tested on the host (tests/test_mthinc.cpp).
 #pragma once
 #include <cmath>
@@ -38,60 +42,65 @@ struct MthincPlane {
 // dilute runs' active region grew to the whole box.
 constexpr Real mthinc_eps = 1e-10;
 
-// ln cosh x without overflow
-KOKKOS_INLINE_FUNCTION Real log_cosh(Real x) {
-  const Real a = Kokkos::fabs(x);
-  return a + Kokkos::log1p(Kokkos::exp(-2 * a)) - Real(0.69314718055994530942);
+// H = (1 + tanh x) / 2 = 1 / (1 + u), u = exp(-2x), x = beta (n . X + d).
+// With the axis D of n's largest component turned so that nD > 0, H's mean
+// along D over [a, b] at a node of transverse offset s is
+//   1 + ln[(1 + u(b)) / (1 + u(a))] / (2 beta nD (b - a)),
+// and u = exp(-2 beta nD X_D) exp(-2 beta n1 Y) exp(-2 beta n2 Z) exp(-2 beta d)
+// separates. So the mean over 2x2 Gauss-Legendre nodes across D is
+//   1 + ln[prod_g (1 + u_g(b)) / prod_g (1 + u_g(a))] / (8 beta nD (b - a)):
+// a few exps and two logs per box, where one ln cosh per node and end would
+// take sixteen. The products are kept as prod - 1 (prod_next - 1 =
+// (prod - 1)(1 + u) + u), so a cell that is all but full loses no digits,
+// and their logs taken apart (the log of their ratio, near 0 in an all but
+// empty cell, would lose half of them).
+
+// prod (1 + k_g e) - 1 over the 4 nodes' factors k
+KOKKOS_INLINE_FUNCTION Real prod_one_plus_minus_one(const Real k[4], Real e) {
+  Real m = 0;
+  for (int g = 0; g < 4; ++g) m = m * (1 + k[g] * e) + k[g] * e;
+  return m;
 }
 
-// Mean of tanh(beta (nD X + c)) over X in [a, b], and (with slope) its
-// derivative in c: with x = beta (nD X + c) and e = exp(-2|x|) at each end,
-// ln cosh x = |x| + log1p(e) - ln 2 and tanh x = sign(x) (1 - e) / (1 + e),
-// one exp and one log1p per end. Below a span of 1e-4 the midpoint value
-// (error < 4e-10; the ln cosh difference would lose digits there).
-KOKKOS_INLINE_FUNCTION Real mean_tanh_1d(Real beta, Real nD, Real c, Real a, Real b, Real* slope) {
-  const Real span = beta * nD * (b - a);
-  if (Kokkos::fabs(span) < Real(1e-4)) {
-    const Real t = Kokkos::tanh(beta * (nD * (a + b) / 2 + c));
-    if (slope) *slope = beta * (1 - t * t);
-    return t;
-  }
-  const Real xa = beta * (nD * a + c), xb = beta * (nD * b + c);
-  const Real ua = Kokkos::fabs(xa), ub = Kokkos::fabs(xb);
-  const Real ea = Kokkos::exp(-2 * ua), eb = Kokkos::exp(-2 * ub);
-  if (slope) {
-    const Real ta = (xa < 0 ? -1 : 1) * (1 - ea) / (1 + ea), tb = (xb < 0 ? -1 : 1) * (1 - eb) / (1 + eb);
-    *slope = (tb - ta) / (nD * (b - a));
-  }
-  return (ub - ua + Kokkos::log1p(eb) - Kokkos::log1p(ea)) / span;
+// The nodes' transverse factors exp(-2 beta (n1 Y + n2 Z)) of the box across
+// axis D, times `scale`
+KOKKOS_INLINE_FUNCTION void mthinc_node_factors(const MthincPlane& p, Real beta, const Real lo[3],
+                                                const Real hi[3], Real scale, Real k[4]) {
+  const int t1 = (p.dom + 1) % 3, t2 = (p.dom + 2) % 3;
+  const Real g = Real(0.57735026918962576451);  // the nodes at +-1/sqrt(3) of the half-width
+  const Real c = scale * Kokkos::exp(-beta * (p.n[t1] * (lo[t1] + hi[t1]) + p.n[t2] * (lo[t2] + hi[t2])));
+  const Real e1 = Kokkos::exp(-beta * p.n[t1] * (hi[t1] - lo[t1]) * g);
+  const Real e2 = Kokkos::exp(-beta * p.n[t2] * (hi[t2] - lo[t2]) * g);
+  k[0] = c * e1 * e2, k[1] = c * e1 / e2, k[2] = c / e1 * e2, k[3] = c / (e1 * e2);
 }
 
-// Mean of H over the box lo..hi inside the cell (and, with dmean, its
-// derivative in d). Across the normal's largest component: 2x2 Gauss-Legendre
-// (exact for cubics). Against the exact means (tests/test_mthinc.cpp): within
-// 3.5e-3 for a cell, 7e-3 for a thin swept slab; 3x3 points are 10 times
-// closer but cost 2.6 times as much, and gave the same tilted-axis turn to 4
-// digits. The fit uses the same quadrature, so the scheme stays conservative
-// and bounded whatever its error.
+// Mean of H over the box lo..hi inside the cell. Below a span 2 beta nD (b -
+// a) of 1e-4 the nodes' midpoint values (error < 1e-9; the log of the ratio
+// would lose digits there).
 KOKKOS_INLINE_FUNCTION Real mthinc_box_mean(const MthincPlane& p, Real beta, const Real lo[3],
-                                            const Real hi[3], Real* dmean = nullptr) {
-  const int D = p.dom, t1 = (D + 1) % 3, t2 = (D + 2) % 3;
-  const Real gx[2] = {Real(-0.57735026918962576451), Real(0.57735026918962576451)};  // on [-1, 1]
-  const Real m1 = (lo[t1] + hi[t1]) / 2, h1 = (hi[t1] - lo[t1]) / 2;
-  const Real m2 = (lo[t2] + hi[t2]) / 2, h2 = (hi[t2] - lo[t2]) / 2;
-  Real sum = 0, dsum = 0;
-  for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b) {
-      const Real c = p.n[t1] * (m1 + h1 * gx[a]) + p.n[t2] * (m2 + h2 * gx[b]) + p.d;
-      Real s = 0;
-      sum += mean_tanh_1d(beta, p.n[D], c, lo[D], hi[D], dmean ? &s : nullptr);
-      dsum += s;
-    }
-  if (dmean) *dmean = dsum / 8;  // the 4 nodes' mean, halved
-  return (1 + sum / 4) / 2;
+                                            const Real hi[3]) {
+  const int D = p.dom;
+  const bool flip = p.n[D] < 0;
+  const Real nD = flip ? -p.n[D] : p.n[D];
+  const Real a = flip ? -hi[D] : lo[D], b = flip ? -lo[D] : hi[D];
+  Real k[4];
+  mthinc_node_factors(p, beta, lo, hi, Kokkos::exp(-2 * beta * p.d), k);
+  const Real span = 2 * beta * nD * (b - a);
+  if (span < Real(1e-4)) {
+    const Real e = Kokkos::exp(-beta * nD * (a + b));
+    Real h = 0;
+    for (int g = 0; g < 4; ++g) h += 1 / (1 + k[g] * e);
+    return h / 4;
+  }
+  const Real ma = prod_one_plus_minus_one(k, Kokkos::exp(-2 * beta * nD * a));
+  const Real mb = prod_one_plus_minus_one(k, Kokkos::exp(-2 * beta * nD * b));
+  return 1 + (Kokkos::log1p(mb) - Kokkos::log1p(ma)) / (4 * span);
 }
 
-// The plane of a cell of value q whose (unnormalised) phi gradient is g
+// The plane of a cell of value q whose (unnormalised) phi gradient is g.
+// With E = exp(-2 beta d) = e^t and the full cell's nodes, q = 1 + Phi(t) /
+// (8 beta nD), Phi(t) = ln[prod (1 + al_g E) / prod (1 + ga_g E)], al_g and ga_g
+// the factors at X_D = 1/2 and -1/2: Newton on t, an exp and two logs a step.
 KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta) {
   MthincPlane p{{0, 0, 0}, 0, -1};
   const Real norm = Kokkos::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
@@ -100,33 +109,44 @@ KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta
   p.dom = 0;
   for (int a = 1; a < 3; ++a)
     if (Kokkos::fabs(p.n[a]) > Kokkos::fabs(p.n[p.dom])) p.dom = a;
+  const Real nD = Kokkos::fabs(p.n[p.dom]);
   const Real lo[3] = {Real(-0.5), Real(-0.5), Real(-0.5)}, hi[3] = {Real(0.5), Real(0.5), Real(0.5)};
+  Real al[4], ga[4];
+  mthinc_node_factors(p, beta, lo, hi, Kokkos::exp(-beta * nD), al);
+  const Real e2 = Kokkos::exp(2 * beta * nD);
+  for (int k = 0; k < 4; ++k) ga[k] = al[k] * e2;
+  const Real target = 8 * beta * nD * (q - 1);
   // |n . X| <= sqrt(3)/2 in the cell, and tanh(beta d) = +-(1 - 2 eps) needs
-  // |d| < 11.6 / beta: the root lies in [-bound, bound]
-  Real dl = -(1 + 13 / beta), dh = 1 + 13 / beta;
+  // |d| < 11.6 / beta: the root lies in d in [-bound, bound], t = -2 beta d
+  const Real bound = 2 * beta * (1 + 13 / beta);
+  Real tl = -bound, th = bound;
   // start from the root of the grid-aligned plane (1-D THINC's, closed form:
   // e^{2 beta d} = (e^{2 beta q} - 1) / (e^beta (1 - e^{2 beta (q - 1)}))):
-  // 3 evaluations on average from there, 8 from d = 0
-  p.d = (Kokkos::log(Kokkos::expm1(2 * beta * q)) - beta - Kokkos::log(-Kokkos::expm1(2 * beta * (q - 1)))) /
-        (2 * beta);
-  p.d = p.d < dl ? dl : (p.d > dh ? dh : p.d);
-  for (int it = 0; it < 60; ++it) {
-    Real slope = 0;
-    const Real f = mthinc_box_mean(p, beta, lo, hi, &slope) - q;
-    if (Kokkos::fabs(f) < Real(1e-14)) break;
-    if (f < 0)
-      dl = p.d;
+  // about 3 steps from there
+  Real t =
+      -(Kokkos::log(Kokkos::expm1(2 * beta * q)) - beta - Kokkos::log(-Kokkos::expm1(2 * beta * (q - 1))));
+  t = t < tl ? tl : (t > th ? th : t);
+  for (int it = 0; it < 80; ++it) {
+    const Real E = Kokkos::exp(t);
+    const Real mn = prod_one_plus_minus_one(al, E), md = prod_one_plus_minus_one(ga, E);
+    const Real f = Kokkos::log1p(mn) - Kokkos::log1p(md) - target;  // decreasing in t
+    if (Kokkos::fabs(f) < 8 * beta * nD * Real(1e-14)) break;
+    if (f > 0)
+      tl = t;
     else
-      dh = p.d;
-    Real next = slope > 0 ? p.d - f / slope : dl - 1;
-    const bool newton = next > dl && next < dh;
-    if (!newton) next = (dl + dh) / 2;  // Newton left the bracket: bisect
-    const Real step = next - p.d;
-    p.d = next;
-    // a Newton step this small leaves an error of about beta step^2 < 1e-13:
-    // no need to evaluate again (saves one of four evaluations)
-    if ((newton && Kokkos::fabs(step) < Real(1e-7)) || dh - dl < Real(1e-15)) break;
+      th = t;
+    // dPhi/dt = sum (al - ga) E / ((1 + al E)(1 + ga E)), without cancellation
+    Real slope = 0;
+    for (int k = 0; k < 4; ++k) slope += (al[k] - ga[k]) * E / ((1 + al[k] * E) * (1 + ga[k] * E));
+    Real next = slope < 0 ? t - f / slope : th + 1;
+    const bool newton = next > tl && next < th;
+    if (!newton) next = (tl + th) / 2;  // Newton left the bracket: bisect
+    const Real step = next - t;
+    t = next;
+    // a Newton step this small leaves an error in d of about 1e-14
+    if ((newton && Kokkos::fabs(step) < Real(1e-7)) || th - tl < Real(1e-14)) break;
   }
+  p.d = -t / (2 * beta);
   return p;
 }
 
