@@ -16,7 +16,8 @@ oscillation (about 4 pi / gamma at K = 1). Phi = 4 pi / 3 / 16^3 = 0.001.
 - conv: Ca = 0.1, 0.2, 0.4 at K = 1 and Ca = 0.2 at K = 10, THINC phi, at 4, 6
   and 8 points per radius (ppr); the observed order from the three, and a
   Richardson estimate, for T, the inclination, [mu] and N1 / Phi.
-- speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, WENO5).
+- speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, MTHINC,
+  WENO5).
   Its error against the theory and against the Richardson value, against
   wall seconds per strain unit.
 
@@ -84,7 +85,7 @@ def runs(which):
             for ppr in (4, 6, 8):
                 out.append((ca, k, "thinc", ppr))
     if which in ("speed", "all"):
-        for scheme in ("thinc", "weno5"):
+        for scheme in ("thinc", "mthinc", "weno5"):
             for ppr in (3, 4, 6, 8):
                 out.append((0.2, 1, scheme, ppr))
     seen, uniq = set(), []
@@ -246,7 +247,7 @@ def cmd_report(_):
             f = [conv[p]["q"][key][0] for p in use]
             rich[key] = richardson(h, f, observed_order(h, f) if len(use) == 3 else None)[0]
     pts, speed_rows = [], []
-    for scheme in ("thinc", "weno5"):
+    for scheme in ("thinc", "mthinc", "weno5"):
         for ppr in (3, 4, 6, 8):
             x = measure((0.2, 1, scheme, ppr))
             if not x:
@@ -291,7 +292,7 @@ def plot(pts):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(1, 2, figsize=(9, 3.8))
-    for scheme, c in (("thinc", "C0"), ("weno5", "C3")):
+    for scheme, c in (("thinc", "C0"), ("mthinc", "C2"), ("weno5", "C3")):
         sel = sorted([p for p in pts if p[0] == scheme], key=lambda p: p[1])
         if not sel:
             continue
