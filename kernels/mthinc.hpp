@@ -44,6 +44,13 @@ struct MthincPlane {
 // reached cells 8 away from a particle turning for 50 time units, and the
 // dilute runs' active region grew to the whole box.
 constexpr Real mthinc_eps = 1e-10;
+KOKKOS_INLINE_FUNCTION bool mthinc_interface(Real q) { return q > mthinc_eps && q < 1 - mthinc_eps; }
+
+// the axis of n's largest component (the first of equal ones)
+KOKKOS_INLINE_FUNCTION int dominant_axis(const Real n[3]) {
+  const Real a0 = Kokkos::fabs(n[0]), a1 = Kokkos::fabs(n[1]), a2 = Kokkos::fabs(n[2]);
+  return a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
+}
 
 // H = (1 + tanh x) / 2 = 1 / (1 + u), u = exp(-2x), x = beta (n . X + d).
 // With the axis D of n's largest component turned so that nD > 0, H's mean
@@ -107,11 +114,9 @@ KOKKOS_INLINE_FUNCTION Real mthinc_box_mean(const MthincPlane& p, Real beta, con
 KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta) {
   MthincPlane p{{0, 0, 0}, 0, -1};
   const Real norm = Kokkos::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-  if (!(q > mthinc_eps && q < 1 - mthinc_eps) || norm < Real(1e-12)) return p;
+  if (!mthinc_interface(q) || norm < Real(1e-12)) return p;
   for (int a = 0; a < 3; ++a) p.n[a] = g[a] / norm;
-  p.dom = 0;
-  for (int a = 1; a < 3; ++a)
-    if (Kokkos::fabs(p.n[a]) > Kokkos::fabs(p.n[p.dom])) p.dom = a;
+  p.dom = dominant_axis(p.n);
   const Real nD = Kokkos::fabs(p.n[p.dom]);
   const Real lo[3] = {Real(-0.5), Real(-0.5), Real(-0.5)}, hi[3] = {Real(0.5), Real(0.5), Real(0.5)};
   Real al[4], ga[4];

@@ -126,9 +126,7 @@ struct FaceFluxes {
 // the stored plane of cell (i, j, k); n = 0 marks a cell without interface
 KOKKOS_INLINE_FUNCTION MthincPlane stored_plane(const FaceFluxes& f, int i, int j, int k) {
   MthincPlane p{{f.nx(i, j, k), f.ny(i, j, k), f.nz(i, j, k)}, f.d(i, j, k), -1};
-  const Real a0 = Kokkos::fabs(p.n[0]), a1 = Kokkos::fabs(p.n[1]), a2 = Kokkos::fabs(p.n[2]);
-  if (a0 + a1 + a2 == 0) return p;
-  p.dom = a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
+  if (p.n[0] != 0 || p.n[1] != 0 || p.n[2] != 0) p.dom = dominant_axis(p.n);
   return p;
 }
 
@@ -180,7 +178,7 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
           "solid_transport_mthinc_planes", cells, KOKKOS_LAMBDA(int i, int j, int k) {
             Real gr[3] = {0, 0, 0};
             const Real qc = q(i, j, k);
-            if (qc > mthinc_eps && qc < 1 - mthinc_eps) youngs_gradient(q, i, j, k, gr);
+            if (mthinc_interface(qc)) youngs_gradient(q, i, j, k, gr);
             const MthincPlane p = mthinc_fit(qc, gr, beta);
             fl.nx(i, j, k) = p.dom < 0 ? 0 : p.n[0];
             fl.ny(i, j, k) = p.dom < 0 ? 0 : p.n[1];
