@@ -78,12 +78,12 @@ checkpoint_every = 400
 """
 
 
-def runs(which):
+def runs(which, conv_scheme="thinc"):
     out = []
     if which in ("conv", "all"):
         for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
             for ppr in (4, 6, 8):
-                out.append((ca, k, "thinc", ppr))
+                out.append((ca, k, conv_scheme, ppr))
     if which in ("speed", "all"):
         for scheme in ("thinc", "mthinc", "weno5"):
             for ppr in (3, 4, 6, 8):
@@ -319,13 +319,15 @@ def main():
     r.add_argument("--set", default="all", choices=["conv", "speed", "all"])
     r.add_argument("--only", default=None, help="comma-separated run names")
     r.add_argument("--threads", type=int, default=1)
+    r.add_argument("--scheme", default="thinc", choices=["thinc", "mthinc", "weno5"],
+                   help="phi scheme of the conv set")
     sub.add_parser("report")
     a = ap.parse_args()
     if a.cmd == "report":
         cmd_report(a)
         return
     only = set(a.only.split(",")) if a.only else None
-    for run in runs(a.set):
+    for run in runs(a.set, a.scheme):
         if only and name_of(*run) not in only:
             continue
         run_one(run, a.threads)
