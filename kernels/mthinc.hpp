@@ -37,6 +37,16 @@ struct MthincPlane {
   int dom;  // the axis of n's largest component: integrated analytically
 };
 
+// The exponentials of a fitted plane that every face value of its cell
+// shares, kept with the plane so that a face takes one or two exps and two
+// logs instead of six and two (the face values were half of MTHINC's cost):
+// E = exp(-2 beta d); e1, e2 = exp(-beta n_t g) across the dominant axis D
+// (t1 = D + 1, t2 = D + 2 cyclically, g = 1/sqrt(3), the full cell's Gauss
+// nodes); eD = exp(-beta |n_D|).
+struct MthincExps {
+  Real E, e1, e2, eD;
+};
+
 // cells within this of 0 or 1 carry no interface: phi's cut-off
 // (phi_zero_cut, kernels/solid_transport.hpp), so every cell the transport
 // keeps non-zero gets its plane. A larger value (1e-6 was tried) hands the
@@ -72,29 +82,19 @@ KOKKOS_INLINE_FUNCTION Real prod_one_plus_minus_one(const Real k[4], Real e) {
   return m;
 }
 
-// The nodes' transverse factors exp(-2 beta (n1 Y + n2 Z)) of the box across
-// axis D, times `scale`
-KOKKOS_INLINE_FUNCTION void mthinc_node_factors(const MthincPlane& p, Real beta, const Real lo[3],
-                                                const Real hi[3], Real scale, Real k[4]) {
-  const int t1 = (p.dom + 1) % 3, t2 = (p.dom + 2) % 3;
-  const Real g = Real(0.57735026918962576451);  // the nodes at +-1/sqrt(3) of the half-width
-  const Real c = scale * Kokkos::exp(-beta * (p.n[t1] * (lo[t1] + hi[t1]) + p.n[t2] * (lo[t2] + hi[t2])));
-  const Real e1 = Kokkos::exp(-beta * p.n[t1] * (hi[t1] - lo[t1]) * g);
-  const Real e2 = Kokkos::exp(-beta * p.n[t2] * (hi[t2] - lo[t2]) * g);
+constexpr Real mthinc_gauss = Real(0.57735026918962576451);  // the nodes at +-1/sqrt(3) of the half-width
+
+// The 4 nodes' factors c e1^+-1 e2^+-1
+KOKKOS_INLINE_FUNCTION void mthinc_nodes(Real c, Real e1, Real e2, Real k[4]) {
   k[0] = c * e1 * e2, k[1] = c * e1 / e2, k[2] = c / e1 * e2, k[3] = c / (e1 * e2);
 }
 
-// Mean of H over the box lo..hi inside the cell. Below a span 2 beta nD (b -
-// a) of 1e-4 the nodes' midpoint values (error < 1e-9; the log of the ratio
-// would lose digits there).
-KOKKOS_INLINE_FUNCTION Real mthinc_box_mean(const MthincPlane& p, Real beta, const Real lo[3],
-                                            const Real hi[3]) {
-  const int D = p.dom;
-  const bool flip = p.n[D] < 0;
-  const Real nD = flip ? -p.n[D] : p.n[D];
-  const Real a = flip ? -hi[D] : lo[D], b = flip ? -lo[D] : hi[D];
-  Real k[4];
-  mthinc_node_factors(p, beta, lo, hi, Kokkos::exp(-2 * beta * p.d), k);
+// H's mean along D over [a, b] (in the frame where n_D = nD > 0) at the
+// nodes of factors k; ea, eb = exp(-2 beta nD a), exp(-2 beta nD b). Below a
+// span 2 beta nD (b - a) of 1e-4 the nodes' midpoint values (error < 1e-9;
+// the log of the ratio would lose digits there).
+KOKKOS_INLINE_FUNCTION Real mthinc_mean_along(const Real k[4], Real beta, Real nD, Real a, Real b, Real ea,
+                                              Real eb) {
   const Real span = 2 * beta * nD * (b - a);
   if (span < Real(1e-4)) {
     const Real e = Kokkos::exp(-beta * nD * (a + b));
@@ -102,27 +102,47 @@ KOKKOS_INLINE_FUNCTION Real mthinc_box_mean(const MthincPlane& p, Real beta, con
     for (int g = 0; g < 4; ++g) h += 1 / (1 + k[g] * e);
     return h / 4;
   }
-  const Real ma = prod_one_plus_minus_one(k, Kokkos::exp(-2 * beta * nD * a));
-  const Real mb = prod_one_plus_minus_one(k, Kokkos::exp(-2 * beta * nD * b));
+  const Real ma = prod_one_plus_minus_one(k, ea), mb = prod_one_plus_minus_one(k, eb);
   return 1 + (Kokkos::log1p(mb) - Kokkos::log1p(ma)) / (4 * span);
+}
+
+// Mean of H over the box lo..hi inside the cell (any box: the fit's test
+// uses it; the transport's faces take mthinc_face_value)
+KOKKOS_INLINE_FUNCTION Real mthinc_box_mean(const MthincPlane& p, Real beta, const Real lo[3],
+                                            const Real hi[3]) {
+  const int D = p.dom, t1 = (D + 1) % 3, t2 = (D + 2) % 3;
+  const bool flip = p.n[D] < 0;
+  const Real nD = flip ? -p.n[D] : p.n[D];
+  const Real a = flip ? -hi[D] : lo[D], b = flip ? -lo[D] : hi[D];
+  const Real c =
+      Kokkos::exp(-2 * beta * p.d - beta * (p.n[t1] * (lo[t1] + hi[t1]) + p.n[t2] * (lo[t2] + hi[t2])));
+  Real k[4];
+  mthinc_nodes(c, Kokkos::exp(-beta * p.n[t1] * (hi[t1] - lo[t1]) * mthinc_gauss),
+               Kokkos::exp(-beta * p.n[t2] * (hi[t2] - lo[t2]) * mthinc_gauss), k);
+  return mthinc_mean_along(k, beta, nD, a, b, Kokkos::exp(-2 * beta * nD * a),
+                           Kokkos::exp(-2 * beta * nD * b));
 }
 
 // The plane of a cell of value q whose (unnormalised) phi gradient is g.
 // With E = exp(-2 beta d) = e^t and the full cell's nodes, q = 1 + Phi(t) /
 // (8 beta nD), Phi(t) = ln[prod (1 + al_g E) / prod (1 + ga_g E)], al_g and ga_g
 // the factors at X_D = 1/2 and -1/2: Newton on t, an exp and two logs a step.
-KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta) {
+// x: the exps the cell's face values share.
+KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta, MthincExps& x) {
   MthincPlane p{{0, 0, 0}, 0, -1};
+  x = MthincExps{1, 1, 1, 1};
   const Real norm = Kokkos::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   if (!mthinc_interface(q) || norm < Real(1e-12)) return p;
   for (int a = 0; a < 3; ++a) p.n[a] = g[a] / norm;
   p.dom = dominant_axis(p.n);
   const Real nD = Kokkos::fabs(p.n[p.dom]);
-  const Real lo[3] = {Real(-0.5), Real(-0.5), Real(-0.5)}, hi[3] = {Real(0.5), Real(0.5), Real(0.5)};
+  x.e1 = Kokkos::exp(-beta * p.n[(p.dom + 1) % 3] * mthinc_gauss);
+  x.e2 = Kokkos::exp(-beta * p.n[(p.dom + 2) % 3] * mthinc_gauss);
+  x.eD = Kokkos::exp(-beta * nD);
   Real al[4], ga[4];
-  mthinc_node_factors(p, beta, lo, hi, Kokkos::exp(-beta * nD), al);
-  const Real e2 = Kokkos::exp(2 * beta * nD);
-  for (int k = 0; k < 4; ++k) ga[k] = al[k] * e2;
+  mthinc_nodes(x.eD, x.e1, x.e2, al);
+  const Real e2D = 1 / (x.eD * x.eD);
+  for (int k = 0; k < 4; ++k) ga[k] = al[k] * e2D;
   const Real target = 8 * beta * nD * (q - 1);
   // |n . X| <= sqrt(3)/2 in the cell, and tanh(beta d) = +-(1 - 2 eps) needs
   // |d| < 11.6 / beta: the root lies in d in [-bound, bound], t = -2 beta d
@@ -155,22 +175,43 @@ KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta
     if ((newton && Kokkos::fabs(step) < Real(1e-7)) || th - tl < Real(1e-14)) break;
   }
   p.d = -t / (2 * beta);
+  x.E = Kokkos::exp(t);
   return p;
+}
+KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta) {
+  MthincExps x;
+  return mthinc_fit(q, g, beta, x);
 }
 
 // Flux value at a face of a cell along axis `ax`: H's mean over the slab of
-// width nu next to the face (`high`: the +1/2 face). A cell without an
-// interface gives its own value q.
-KOKKOS_INLINE_FUNCTION Real mthinc_face_value(const MthincPlane& p, Real q, Real beta, int ax, bool high,
-                                              Real nu) {
+// width nu next to the face (`high`: the +1/2 face), from the plane and its
+// exps. A cell without an interface gives its own value q.
+KOKKOS_INLINE_FUNCTION Real mthinc_face_value(const MthincPlane& p, const MthincExps& x, Real q, Real beta,
+                                              int ax, bool high, Real nu) {
   if (p.dom < 0) return q;
   nu = nu < 1 ? nu : Real(1);
-  Real lo[3] = {Real(-0.5), Real(-0.5), Real(-0.5)}, hi[3] = {Real(0.5), Real(0.5), Real(0.5)};
-  if (high)
-    lo[ax] = Real(0.5) - nu;
+  const int D = p.dom;
+  const bool flip = p.n[D] < 0;
+  const Real nD = flip ? -p.n[D] : p.n[D];
+  Real k[4];
+  if (ax == D) {  // the full cell across D; along it the slab touches X_D = 1/2 or -1/2 (after the flip)
+    mthinc_nodes(x.E, x.e1, x.e2, k);
+    if (high != flip) {
+      const Real a = Real(0.5) - nu;
+      return mthinc_mean_along(k, beta, nD, a, Real(0.5), Kokkos::exp(-2 * beta * nD * a), x.eD);
+    }
+    const Real b = Real(-0.5) + nu;
+    return mthinc_mean_along(k, beta, nD, Real(-0.5), b, 1 / x.eD, Kokkos::exp(-2 * beta * nD * b));
+  }
+  // the slab across D: its centre at +-(1 - nu)/2 and its width nu along ax
+  const Real nt = p.n[ax];
+  const Real c = x.E * Kokkos::exp(-beta * nt * (high ? 1 - nu : nu - 1));
+  const Real es = Kokkos::exp(-beta * nt * nu * mthinc_gauss);
+  if (ax == (D + 1) % 3)
+    mthinc_nodes(c, es, x.e2, k);
   else
-    hi[ax] = Real(-0.5) + nu;
-  return mthinc_box_mean(p, beta, lo, hi);
+    mthinc_nodes(c, x.e1, es, k);
+  return mthinc_mean_along(k, beta, nD, Real(-0.5), Real(0.5), 1 / x.eD, x.eD);
 }
 
 }  // namespace softflow

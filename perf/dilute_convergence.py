@@ -13,9 +13,10 @@ transient of the fluid), implicit viscosity, to strain 12; averages over
 strain [4, 12), which holds one period of the particle's damped shape
 oscillation (about 4 pi / gamma at K = 1). Phi = 4 pi / 3 / 16^3 = 0.001.
 
-- conv: Ca = 0.1, 0.2, 0.4 at K = 1 and Ca = 0.2 at K = 10, THINC phi, at 4, 6
-  and 8 points per radius (ppr); the observed order from the three, and a
-  Richardson estimate, for T, the inclination, [mu] and N1 / Phi.
+- conv: Ca = 0.1, 0.2, 0.4 at K = 1 and Ca = 0.2 at K = 10, THINC phi (or
+  --scheme mthinc), at 4, 6 and 8 points per radius (ppr); the observed order
+  from the three, and a Richardson estimate, for T, the inclination, [mu] and
+  N1 / Phi. The report has one table per scheme run.
 - speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, MTHINC,
   WENO5).
   Its error against the theory and against the Richardson value, against
@@ -188,23 +189,20 @@ QUANT = [("T", "T", 0.05), ("inclination", "inclination (deg)", 0.05), ("intrins
          ("N1_per_Phi", "N1 / Phi", 0.10)]
 
 
-def cmd_report(_):
-    lines = ["# One sphere in shear against the exact dilute theory", "",
-             "Produced by `perf/dilute_convergence.py run --set all` then `perf/dilute_convergence.py report`"
-             " (its docstring has the set-up: 16r x 16r x 16r box, walls 8r from the sphere, Re = 0.1,"
-             f" from the Couette profile, averages over strain [{FROM:g}, {STRAIN:g})). "
-             "Theory: shared/spec/dilute_theory.csv (unbounded). Tolerances of the issue: T and"
-             " inclination within 5% of the theory, [mu] and N1 within 10%.", "",
-             "## Convergence (THINC phi)", "",
+CONV_CASES = ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10))
+
+
+def convergence_table(scheme, title, csv_rows):
+    """The convergence section of one phi scheme (its rows also appended to csv_rows)."""
+    lines = [f"## Convergence ({title} phi)", "",
              "The three finest resolutions run of 3, 4, 6 and 8 points per radius (ppr) give the observed"
              " order and the Richardson value (its error bar: the size of the extrapolation, combined with"
              " twice the finest run's standard error); with two resolutions only, the order is not"
              " measured ('unclear') and the Richardson value assumes the formal order 2.", "",
              "| Ca | K | quantity | 3 ppr | 4 ppr | 6 ppr | 8 ppr | observed order | Richardson | theory | "
              "Richardson vs theory | within |", "|" + "---|" * 12]
-    csv_rows = []
-    for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
-        m = {p: measure((ca, k, "thinc", p)) for p in (3, 4, 6, 8)}
+    for ca, k in CONV_CASES:
+        m = {p: measure((ca, k, scheme, p)) for p in (3, 4, 6, 8)}
         use = [p for p in (3, 4, 6, 8) if m[p]][-3:]
         th = theory(ca, k)
         for key, label, tol in QUANT:
@@ -227,11 +225,28 @@ def cmd_report(_):
                          f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) +
                          f" | unclear | {fin:.4f} ± {err:.4f} (p = 2) | {th[key]:.4f} | {100 * rel:+.1f}% | "
                          f"{'yes' if ok else 'NO'} ({100 * tol:g}%) |")
-            csv_rows.append({"Ca": ca, "K": k, "quantity": key, "ppr": "/".join(map(str, use)),
-                             "values": "/".join(f"{x:.6g}" for x in f),
+            csv_rows.append({"scheme": scheme, "Ca": ca, "K": k, "quantity": key,
+                             "ppr": "/".join(map(str, use)), "values": "/".join(f"{x:.6g}" for x in f),
                              "order": p, "richardson": fin, "richardson_err": err, "theory": th[key]})
+    return lines + [""]
+
+
+def cmd_report(_):
+    lines = ["# One sphere in shear against the exact dilute theory", "",
+             "Produced by `perf/dilute_convergence.py run --set all` (and `run --set conv --scheme mthinc`)"
+             " then `perf/dilute_convergence.py report`"
+             " (its docstring has the set-up: 16r x 16r x 16r box, walls 8r from the sphere, Re = 0.1,"
+             f" from the Couette profile, averages over strain [{FROM:g}, {STRAIN:g})). "
+             "Theory: shared/spec/dilute_theory.csv (unbounded). Tolerances of the issue: T and"
+             " inclination within 5% of the theory, [mu] and N1 within 10%.", "",
+             ]
+    csv_rows = []
+    for scheme, title in (("thinc", "THINC"), ("mthinc", "MTHINC")):
+        if not any(measure((ca, k, scheme, p)) for ca, k in CONV_CASES for p in (3, 4, 6, 8)):
+            continue
+        lines += convergence_table(scheme, title, csv_rows)
     # speed against error
-    lines += ["", "## Speed against error (Ca = 0.2, K = 1)", "",
+    lines += ["## Speed against error (Ca = 0.2, K = 1)", "",
               "Error of each run against the theory and against the Richardson value of the THINC series"
               " (the discretisation error alone); wall seconds per strain unit on the 2-core VM, one"
               " OpenMP thread per run, runs side by side (timings carry 10-25% noise).", "",

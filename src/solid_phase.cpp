@@ -31,6 +31,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   phi_scheme_.thinc_beta = cfg.particles.phi_scheme != "weno5" ? cfg.particles.thinc_beta : 0;
   phi_scheme_.multi_d = cfg.particles.phi_scheme == "mthinc";
   extend_b_ = cfg.particles.b_extension;
+  if (extend_b_) b_live_ = Field3("solid_b_live", g.sx(), g.sy(), g.sz());
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
   b_check_.on = cfg.particles.b_fallback;
@@ -224,7 +225,13 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
   const Range3 active = track_region_ ? grown_range(phi_support(g_, q_.phi()), 3, region_) : region_;
   PhiScheme scheme = phi_scheme_;
   scheme.stage_dt = gdt + zdt;  // solid_rk3_update: q += gdt r_now + zdt r_before
-  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme);
+  const bool live = extend_b_ && b_live_cells_;
+  if (live && !active.empty())
+    mark_b_live(
+        q_.phi(),
+        Range3{active.ib - 1, active.ie + 1, active.jb - 1, active.je + 1, active.kb - 1, active.ke + 1},
+        b_live_);
+  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme, live ? b_live_ : Field3{});
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_, b_check_);
   if (b_check_.on) {
     const long troubled = count_troubled(b_check_, region_);

@@ -32,6 +32,9 @@ class SolidPhase {
   // off: the whole interior every step (the reference the region is tested
   // against)
   void set_region_tracking(bool on) { track_region_ = on; }
+  // B's right-hand side only in live cells (the default with B's extension;
+  // off: everywhere, for the test that both give the same answer)
+  void set_b_live_cells(bool on) { b_live_cells_ = on; }
 
   // stage s, before the momentum update: advance phi and B from the velocity
   // of the previous stage; then compute the new elastic force
@@ -83,6 +86,7 @@ class SolidPhase {
   Halo& halo_;
   SolidFields q_, rhs_now_, rhs_before_;
   FaceFluxes flux_;  // the transport's face-flux scratch
+  Field3 b_live_;    // with B's extension: where B's right-hand side is needed (mark_b_live)
   MomentumRhs force_now_, force_before_;
   MixtureStress stress_;
   StoredTau tau_;  // the elastic stress at cell centres, the force kernel's input
@@ -93,6 +97,7 @@ class SolidPhase {
   BCheck b_check_;  // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
   BStats b_stats_;
   bool track_region_ = true;
+  bool b_live_cells_ = true;
   Range3 region_{}, force_region_{};
 };
 

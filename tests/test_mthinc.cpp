@@ -73,13 +73,15 @@ TEST(Mthinc, FitReproducesTheCellValueAndItsQuadratureTheExactMean) {
 TEST(Mthinc, CellsWithoutAnInterfaceGiveTheirOwnValue) {
   const double g[3] = {1, 0.5, 0}, flat[3] = {0, 0, 0};
   for (double q : {0.0, 5e-11, 1.0, 1 - 5e-11}) {
-    const MthincPlane p = mthinc_fit(q, g, 3.5);
+    MthincExps x;
+    const MthincPlane p = mthinc_fit(q, g, 3.5, x);
     EXPECT_LT(p.dom, 0);
-    EXPECT_EQ(mthinc_face_value(p, q, 3.5, 0, true, 0.3), q);
+    EXPECT_EQ(mthinc_face_value(p, x, q, 3.5, 0, true, 0.3), q);
   }
-  const MthincPlane p = mthinc_fit(0.4, flat, 3.5);  // an isolated cell: no normal
+  MthincExps x;
+  const MthincPlane p = mthinc_fit(0.4, flat, 3.5, x);  // an isolated cell: no normal
   EXPECT_LT(p.dom, 0);
-  EXPECT_EQ(mthinc_face_value(p, 0.4, 3.5, 1, false, 0.3), 0.4);
+  EXPECT_EQ(mthinc_face_value(p, x, 0.4, 3.5, 1, false, 0.3), 0.4);
 }
 
 // A plane across x is 1-D THINC's step along x: same steepness, same cell
@@ -91,11 +93,13 @@ TEST(Mthinc, AGridAlignedPlaneIsThinc) {
       for (double nu : {0.0, 0.05, 0.4, 1.0}) {
         const Thinc t = make_thinc(beta);
         const double rising[3] = {1, 0, 0}, falling[3] = {-1, 0, 0};
-        const MthincPlane up = mthinc_fit(q, rising, beta), down = mthinc_fit(q, falling, beta);
-        EXPECT_NEAR(mthinc_face_value(up, q, beta, 0, true, nu), thinc_right_swept(0, q, 1, t, nu), 1e-11)
+        MthincExps xu, xd;
+        const MthincPlane up = mthinc_fit(q, rising, beta, xu), down = mthinc_fit(q, falling, beta, xd);
+        EXPECT_NEAR(mthinc_face_value(up, xu, q, beta, 0, true, nu), thinc_right_swept(0, q, 1, t, nu), 1e-11)
             << "beta " << beta << " q " << q << " nu " << nu;
         // the left face of a falling step is the right face of the mirrored rising one
-        EXPECT_NEAR(mthinc_face_value(down, q, beta, 0, false, nu), thinc_right_swept(0, q, 1, t, nu), 1e-11);
+        EXPECT_NEAR(mthinc_face_value(down, xd, q, beta, 0, false, nu), thinc_right_swept(0, q, 1, t, nu),
+                    1e-11);
       }
 }
 
@@ -116,8 +120,14 @@ TEST(Mthinc, SweptMeansAreTheStepsMeansAndKeepAnEulerStepBounded) {
         for (bool high : {true, false})
           for (double nu : {0.05, 0.4, 1.0}) {
             const double g[3] = {n[0], n[1], n[2]};
-            const MthincPlane p = mthinc_fit(q, g, beta);
-            const double f = mthinc_face_value(p, q, beta, ax, high, nu);
+            MthincExps x;
+            const MthincPlane p = mthinc_fit(q, g, beta, x);
+            const double f = mthinc_face_value(p, x, q, beta, ax, high, nu);
+            // the same value from the general box mean, which takes its own exps
+            double blo[3] = {-0.5, -0.5, -0.5}, bhi[3] = {0.5, 0.5, 0.5};
+            (high ? blo[ax] : bhi[ax]) = high ? 0.5 - nu : -0.5 + nu;
+            EXPECT_NEAR(f, mthinc_box_mean(p, beta, blo, bhi), 1e-13)
+                << "ax " << ax << " q " << q << " nu " << nu;
             double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
             if (high)
               lo[ax] = 0.5 - nu;
