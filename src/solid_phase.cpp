@@ -230,7 +230,7 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
     mark_b_live(
         q_.phi(),
         Range3{active.ib - 1, active.ie + 1, active.jb - 1, active.je + 1, active.kb - 1, active.ke + 1},
-        b_live_);
+        flux_.x, flux_.y, b_live_);  // the face-flux scratch is free before the transport
   solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme, live ? b_live_ : Field3{});
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_, b_check_);
   if (b_check_.on) {
