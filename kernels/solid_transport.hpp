@@ -34,11 +34,12 @@ constexpr Real phi_fluid_cut = 1e-6;  // below this a cell is fluid: B = I there
 // transported value survives a stage only where phi ends it at or above 1/2:
 // every other cell gets the extension's B, or I. So B's right-hand side is
 // computed only in "live" cells, those with phi >= phi_b_live somewhere in
-// their 3x3x3 block at the stage's start. A dead cell has the 1/2 level of a
-// tanh step of steepness 3.5 about two cells away, and the interface moves
-// less than a cell per step (CFL 0.9): it cannot end a step solid. In the
-// dense scene three quarters of the region are dead, and B's transport was
-// 40% of the new numerics' cost. Results are unchanged (tests/test_solid.cpp).
+// their 3x3x3 block at the stage's start. A dead cell's centre is at least
+// 1.5 cells from the 1/2 level of a tanh step of steepness 3.5 (a cell mean
+// of 0.05 lies within half a cell of it), and the interface moves less than
+// a cell per step (CFL 0.9): a dead cell cannot end a step solid. Results
+// are unchanged to the last bit (tests/test_solid_region.cpp); the dense
+// step saves the B source and divergence of its dead cells (perf/README.md).
 constexpr Real phi_b_live = 0.05;
 KOKKOS_INLINE_FUNCTION Real larger(Real a, Real b) { return a > b ? a : b; }
 // live = 1 where max phi over the 3x3x3 block >= phi_b_live: three separable
