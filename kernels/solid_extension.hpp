@@ -36,39 +36,9 @@ namespace softflow {
 
 constexpr Real phi_solid = 0.5;  // at or above: B evolves by its own equation
 
-// near(i, j, k) = 1 on the cells of `region` with a cell of phi >= phi_solid
-// in the 5x5x5 block around them, else 0: three separable passes of width 5
-// (15 reads a cell instead of the block's 125; most cells of the region are
-// fluid far from the solid, and the block search was 18% of the dense step).
-// `pass` is scratch for the first two passes; both arrays are the caller's,
-// allocated once.
-inline void mark_near_solid(const SolidFields& f, const Range3& region, const Field3& pass,
-                            const Field3& near) {
-  auto phi = f.phi();
-  const Range3 rx{region.ib, region.ie, region.jb - 2, region.je + 2, region.kb - 2, region.ke + 2};
-  par_for(
-      "solid_near_x", rx, KOKKOS_LAMBDA(int i, int j, int k) {
-        Real m = 0;
-        for (int d = -2; d <= 2; ++d) m = phi(i + d, j, k) >= phi_solid ? Real(1) : m;
-        pass(i, j, k) = m;
-      });
-  const Range3 ry{region.ib, region.ie, region.jb, region.je, region.kb - 2, region.ke + 2};
-  par_for(
-      "solid_near_y", ry, KOKKOS_LAMBDA(int i, int j, int k) {
-        Real m = 0;
-        for (int d = -2; d <= 2; ++d) m = pass(i, j + d, k) > 0 ? Real(1) : m;
-        near(i, j, k) = m;
-      });
-  par_for(
-      "solid_near_z", region, KOKKOS_LAMBDA(int i, int j, int k) {
-        Real m = 0;
-        for (int d = -2; d <= 2; ++d) m = near(i, j, k + d) > 0 ? Real(1) : m;
-        pass(i, j, k) = m;
-      });
-}
-
 // B of the cells of `region` with phi < phi_solid from the solid cells within
-// two cells; `near` from mark_near_solid (its result is in the `pass` array)
+// two cells; `near` from mark_near (kernels/near_mask.hpp) with reach 2 and
+// threshold phi_solid
 inline void extend_b_from_solid(const SolidFields& f, const Range3& region, const Field3& near) {
   const SolidViews q(f);
   par_for(

@@ -23,6 +23,7 @@
 #include "solid_state.hpp"
 #include "velocity_gradient.hpp"
 #include "mthinc.hpp"
+#include "near_mask.hpp"
 #include "thinc.hpp"
 #include "weno5.hpp"
 
@@ -41,29 +42,6 @@ constexpr Real phi_fluid_cut = 1e-6;  // below this a cell is fluid: B = I there
 // are unchanged to the last bit (tests/test_solid_region.cpp); the dense
 // step saves the B source and divergence of its dead cells (perf/README.md).
 constexpr Real phi_b_live = 0.05;
-KOKKOS_INLINE_FUNCTION Real larger(Real a, Real b) { return a > b ? a : b; }
-// live = 1 where max phi over the 3x3x3 block >= phi_b_live: three separable
-// passes of width 3 (x into pass_x, y into pass_y, z into live), each a
-// plain max the compiler vectorises; pass_x and pass_y are scratch
-inline void mark_b_live(const Field3& phi, const Range3& cells, const Field3& pass_x, const Field3& pass_y,
-                        const Field3& live) {
-  par_for(
-      "solid_b_live_x", Range3{cells.ib, cells.ie, cells.jb - 1, cells.je + 1, cells.kb - 1, cells.ke + 1},
-      KOKKOS_LAMBDA(int i, int j, int k) {
-        pass_x(i, j, k) = larger(phi(i - 1, j, k), larger(phi(i, j, k), phi(i + 1, j, k)));
-      });
-  par_for(
-      "solid_b_live_y", Range3{cells.ib, cells.ie, cells.jb, cells.je, cells.kb - 1, cells.ke + 1},
-      KOKKOS_LAMBDA(int i, int j, int k) {
-        pass_y(i, j, k) = larger(pass_x(i, j - 1, k), larger(pass_x(i, j, k), pass_x(i, j + 1, k)));
-      });
-  par_for(
-      "solid_b_live", cells, KOKKOS_LAMBDA(int i, int j, int k) {
-        live(i, j, k) =
-            larger(pass_y(i, j, k - 1), larger(pass_y(i, j, k), pass_y(i, j, k + 1))) >= phi_b_live ? Real(1)
-                                                                                                    : Real(0);
-      });
-}
 
 KOKKOS_INLINE_FUNCTION Real weno_x(const Field3& q, Real vel, int i, int j,
                                    int k) {  // face i+1/2
@@ -184,8 +162,9 @@ KOKKOS_INLINE_FUNCTION Real mthinc_face(const FaceFluxes& f, const Field3& q, Re
 // away from the solid and the solid volume is conserved to round-off.
 // `active` (inside `region`) holds the cells within 3 of phi's support at this
 // stage; the rest of `region` gets zero right-hand sides. `b_live` (optional,
-// with B's extension: mark_b_live over the active cells grown by one): B's
-// right-hand side only in its live cells, B's fluxes only on their faces.
+// with B's extension: mark_near with reach 1 and phi_b_live over the active
+// cells grown by one): B's right-hand side only in its live cells, B's
+// fluxes only on their faces.
 inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const SolidFields& f,
                                 const SolidFields& rhs, const FaceFluxes& flux, const Range3& region,
                                 const Range3& active, PhiScheme scheme = {}, const Field3& b_live = {}) {

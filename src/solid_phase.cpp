@@ -227,8 +227,8 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
   scheme.stage_dt = gdt + zdt;  // solid_rk3_update: q += gdt r_now + zdt r_before
   const bool live = extend_b_ && b_live_cells_;
   if (live && !active.empty())
-    mark_b_live(
-        q_.phi(),
+    mark_near(
+        q_.phi(), phi_b_live, 1,
         Range3{active.ib - 1, active.ie + 1, active.jb - 1, active.je + 1, active.kb - 1, active.ke + 1},
         flux_.x, flux_.y, b_live_);  // the face-flux scratch is free before the transport
   solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme, live ? b_live_ : Field3{});
@@ -251,7 +251,7 @@ void SolidPhase::constrain_b() {
   if (extend_b_) {
     // the transport's face-flux scratch is free between stages: the mask's
     // two passes use two of its arrays
-    mark_near_solid(q_, region_, flux_.x, flux_.y);
+    mark_near(q_.phi(), phi_solid, 2, region_, flux_.x, flux_.y, flux_.x);
     extend_b_from_solid(q_, region_, flux_.x);
   }
   Real st[4];

@@ -86,7 +86,7 @@ class SolidPhase {
   Halo& halo_;
   SolidFields q_, rhs_now_, rhs_before_;
   FaceFluxes flux_;  // the transport's face-flux scratch
-  Field3 b_live_;    // with B's extension: where B's right-hand side is needed (mark_b_live)
+  Field3 b_live_;    // with B's extension: where B's right-hand side is needed (mark_near with reach 1)
   MomentumRhs force_now_, force_before_;
   MixtureStress stress_;
   StoredTau tau_;  // the elastic stress at cell centres, the force kernel's input

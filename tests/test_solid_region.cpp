@@ -1,7 +1,7 @@
 // The solid region (kernels/solid_region.hpp): advancing phi and B, and the
 // particles' momentum terms, only around the particles must give the answer
 // of the whole box, to round-off (the only change is the order of the sums).
-// Likewise B's right-hand side only in its live cells (mark_b_live,
+// Likewise B's right-hand side only in its live cells (mark_near with reach 1,
 // kernels/solid_transport.hpp) against everywhere.
 #include <gtest/gtest.h>
 

@@ -1,0 +1,42 @@
+// Which cells have a phi at or above a threshold within `reach` cells (a
+// (2 reach + 1)^3 block): the B extension's cells near the solid (reach 2,
+// phi >= 1/2) and the transport's live cells for B (reach 1, phi >= 0.05).
+// Three separable max passes instead of the block's (2 reach + 1)^3 reads,
+// each a plain comparison the compiler vectorises.
+#pragma once
+#include "../src/types.hpp"
+
+namespace softflow {
+
+// a plain comparison, not fmax (a library call unless NaNs are ruled out,
+// and phi is never NaN)
+KOKKOS_INLINE_FUNCTION Real larger(Real a, Real b) { return a > b ? a : b; }
+
+// out(i, j, k) = 1 on the cells of `cells` whose block holds a phi >= threshold,
+// else 0; pass_x and pass_y are scratch (out may be pass_x)
+inline void mark_near(const Field3& phi, Real threshold, int reach, const Range3& cells, const Field3& pass_x,
+                      const Field3& pass_y, const Field3& out) {
+  const int r = reach;
+  par_for(
+      "solid_near_x", Range3{cells.ib, cells.ie, cells.jb - r, cells.je + r, cells.kb - r, cells.ke + r},
+      KOKKOS_LAMBDA(int i, int j, int k) {
+        Real m = phi(i - r, j, k);
+        for (int d = 1 - r; d <= r; ++d) m = larger(m, phi(i + d, j, k));
+        pass_x(i, j, k) = m;
+      });
+  par_for(
+      "solid_near_y", Range3{cells.ib, cells.ie, cells.jb, cells.je, cells.kb - r, cells.ke + r},
+      KOKKOS_LAMBDA(int i, int j, int k) {
+        Real m = pass_x(i, j - r, k);
+        for (int d = 1 - r; d <= r; ++d) m = larger(m, pass_x(i, j + d, k));
+        pass_y(i, j, k) = m;
+      });
+  par_for(
+      "solid_near_z", cells, KOKKOS_LAMBDA(int i, int j, int k) {
+        Real m = pass_y(i, j, k - r);
+        for (int d = 1 - r; d <= r; ++d) m = larger(m, pass_y(i, j, k + d));
+        out(i, j, k) = m >= threshold ? Real(1) : Real(0);
+      });
+}
+
+}  // namespace softflow
