@@ -145,7 +145,7 @@ KOKKOS_INLINE_FUNCTION Real mthinc_face(const FaceFluxes& f, const Field3& q, Re
                                         int ax, int i, int j, int k) {
   const bool pos = vel >= 0;
   const int iu = pos ? i : i + (ax == 0), ju = pos ? j : j + (ax == 1), ku = pos ? k : k + (ax == 2);
-  MthincPlane p{{f.nx(iu, ju, ku), f.ny(iu, ju, ku), f.nz(iu, ju, ku)}, 0, -1};
+  MthincPlane p{{f.nx(iu, ju, ku), f.ny(iu, ju, ku), f.nz(iu, ju, ku)}, -1};
   if (p.n[0] == 0 && p.n[1] == 0 && p.n[2] == 0) return q(iu, ju, ku);
   p.dom = dominant_axis(p.n);
   const MthincExps x{f.E(iu, ju, ku), f.e1(iu, ju, ku), f.e2(iu, ju, ku), f.eD(iu, ju, ku)};
