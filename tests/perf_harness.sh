@@ -3,8 +3,8 @@
 # never for how fast anything is: the JSON's contents (kernels found, no
 # host-device copies in the step, the transposes' bytes on 2 ranks equal to
 # the model of perf/scaling.py) and compare.py's verdicts (a run against
-# itself passes, a planted 3x slowdown of a kernel fails, different grids are
-# refused).
+# itself passes, a planted 3x slowdown of a kernel fails unless the kernel is
+# below --min-share, different grids are refused).
 # usage: perf_harness.sh SOFTFLOW-PERF MPIEXEC SOURCE_DIR
 set -eu
 perf=$1 mpiexec=$2 src=$3
@@ -39,17 +39,23 @@ halo = b["communication"]["halo_bytes_per_step_all_ranks"]
 check(halo > 0 and abs(halo / field - round(halo / field)) < 1e-9, f"halo: {halo / field:.2f} whole field exchanges")
 check("solid_transport_flux" in b["kernels"] and 0 < b["solid_region_share_of_box"] <= 1, "solid kernels and region")
 # the gate
-def gate(base, new):
+def gate(base, new, *extra):
     json.dump(base, open(f"{work}/base.json", "w"))
     json.dump(new, open(f"{work}/new.json", "w"))
-    return subprocess.run([sys.executable, src + "/perf/compare.py", f"{work}/base.json", f"{work}/new.json"],
-                          capture_output=True, text=True).returncode
+    return subprocess.run([sys.executable, src + "/perf/compare.py", f"{work}/base.json", f"{work}/new.json",
+                           *extra], capture_output=True, text=True).returncode
 check(gate(a, a) == 0, "a run against itself passes")
 slow = copy.deepcopy(a)
 top = max(a["kernels"], key=lambda k: a["kernels"][k]["share_of_step"])
 for s in ("min", "median", "max"):
     slow["kernels"][top]["normalized"][s] *= 3
-check(gate(a, slow) == 1, f"a 3x slower {top} fails")
+# every kernel gated (--min-share 0): on a loaded machine a stall outside the
+# kernels can leave even the largest kernel below the default 5% share of
+# this tiny step (seen once in CI beside two production runs), and what is
+# checked here is the verdict, not the shares
+check(gate(a, slow, "--min-share", "0") == 1, f"a 3x slower {top} fails")
+share = a["kernels"][top]["share_of_step"]
+check(gate(a, slow, "--min-share", str(2 * share)) == 0, f"a slower {top} below --min-share is not gated")
 other = copy.deepcopy(a)
 other["grid"] = [32, 8, 16]
 check(gate(a, other) == 2, "different grids are refused")
