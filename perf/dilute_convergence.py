@@ -19,9 +19,11 @@ also compares each window's halves (the issue's stationarity test).
 - conv: Ca = 0.1, 0.2, 0.4 at K = 1 and Ca = 0.2 at K = 10, THINC phi (or
   --scheme mthinc), at 4, 6 and 8 points per radius (ppr; --ppr 12 adds the
   refinement the issue asks for where the order is unclear, about 5 h a run on
-  one core); the observed order from the three finest, and a Richardson
-  estimate, for T, the inclination, [mu] and N1 / Phi. The report has one
-  table per scheme run.
+  one core; --ppr 5,7 add resolutions inside the range, which pin the order
+  at a fraction of 12's cost); the observed order and a Richardson estimate
+  from a least-squares fit over every resolution from 4 ppr, for T, the
+  inclination, [mu] and N1 / Phi, and for N1's elastic and viscous parts
+  where the runs record them. The report has one table per scheme run.
 - speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, MTHINC,
   WENO5).
   Its error against the theory and against the Richardson value, against
@@ -29,7 +31,9 @@ also compares each window's halves (the issue's stationarity test).
 
 Runs go to output/dilute/<run>/ (through scripts/toolchain.sh, one OpenMP
 thread each unless --threads), checkpoint every 400 steps and resume when
-interrupted; finished runs are kept. The theory is
+interrupted; finished runs are kept. The report keeps each finished run's
+figures in perf/results/dilute_runs/<run>.json (committed), and reports a
+run from there when output/ no longer has it (a new machine). The theory is
 ../shared/spec/dilute_theory.csv (Gao, Hu & Ponte Castaneda 2011): the
 unbounded limit. Walls 8r away raise [mu] and change T by a few percent.
 """
@@ -142,8 +146,8 @@ def run_one(run, threads):
 
 
 def measure(run, lo=None, hi=None):
-    """The four quantities' means and standard errors over strain [lo, hi) (the
-    case's window unless given) of a finished run."""
+    """The quantities' means and standard errors over strain [lo, hi) (the
+    case's window unless given) of a finished run in output/, or None."""
     w = window_of(run[0], run[1])
     lo, hi = w[0] if lo is None else lo, w[1] if hi is None else hi
     d = os.path.join(OUT, name_of(*run))
@@ -163,16 +167,57 @@ def measure(run, lo=None, hi=None):
          "inclination": batch_mean([float(r["angle_mean_deg"]) for r in parts]),
          "intrinsic": batch_mean([(float(r["mu_eff"]) - 1) / phi for r in series]),
          "N1_per_Phi": batch_mean([float(r["n1"]) / phi for r in series])}
+    if series[0].get("n1_elastic"):  # series written since round 10 split N1 into its two parts
+        q["N1_elastic_per_Phi"] = batch_mean([float(r["n1_elastic"]) / phi for r in series])
+        q["N1_viscous_per_Phi"] = batch_mean([(float(r["n1"]) - float(r["n1_elastic"])) / phi
+                                              for r in series])
     perf = s["performance"]
     return {"q": q, "wall_per_strain": perf["wall_seconds"] / s["final"]["strain"], "steps": s["final"]["step"],
-            "threads": s.get("threads", 1)}
+            "threads": s.get("parallel", {}).get("threads_per_rank", 1), "version": s["code"]["version"]}
+
+
+RECORDS = os.path.join(RESULTS, "dilute_runs")
+
+
+def record(run):
+    """What the report needs of one run: its window's quantities and the
+    relative difference of its two halves. Taken from output/ when the run is
+    there (and then kept in perf/results/dilute_runs/<run>.json, committed, so
+    that a later machine without the run's output still reports it), else
+    from that file; None when neither has it."""
+    path = os.path.join(RECORDS, name_of(*run) + ".json")
+    m = measure(run)
+    if m is None:
+        try:
+            return json.load(open(path))
+        except (OSError, ValueError):
+            return None
+    lo, hi = window_of(run[0], run[1])
+    a, b = measure(run, lo, (lo + hi) / 2), measure(run, (lo + hi) / 2, hi)
+    halves = {}
+    for key in m["q"]:
+        (m1, s1), (m2, s2) = a["q"][key], b["q"][key]
+        tol = max(2 * math.hypot(s1, s2), 0.01 * abs(m1))
+        halves[key] = [m2 / m1 - 1, abs(m2 - m1) <= tol]
+    rec = {"run": name_of(*run), "window": [lo, hi], "q": m["q"], "halves": halves,
+           "wall_per_strain": m["wall_per_strain"], "steps": m["steps"], "threads": m["threads"],
+           "version": m["version"], "source": "output/dilute/" + name_of(*run)}
+    os.makedirs(RECORDS, exist_ok=True)
+    with open(path + ".tmp", "w") as fh:
+        json.dump(rec, fh, indent=1)
+        fh.write("\n")
+    os.replace(path + ".tmp", path)
+    return rec
 
 
 def theory(ca, k):
     for r in csv.DictReader(open(THEORY)):
         if abs(float(r["Ca"]) - ca) < 1e-9 and abs(float(r["K"]) - k) < 1e-9:
+            el = ((float(r["axis_a"]) ** 2 - float(r["axis_b"]) ** 2)
+                  * math.cos(2 * math.radians(float(r["inclination_deg"]))) / ca)
             return {"T": float(r["taylor_D"]), "inclination": float(r["inclination_deg"]),
-                    "intrinsic": float(r["intrinsic_viscosity"]), "N1_per_Phi": float(r["N1_per_Phi"])}
+                    "intrinsic": float(r["intrinsic_viscosity"]), "N1_per_Phi": float(r["N1_per_Phi"]),
+                    "N1_elastic_per_Phi": el, "N1_viscous_per_Phi": float(r["N1_per_Phi"]) - el}
     return None
 
 
@@ -208,50 +253,126 @@ def richardson(h, f, p):
     return fin, abs(fin - f[-1])
 
 
+def power_fit(h, f, se, p):
+    """f = f0 + C h^p at a given p, by least squares weighted with 1/se^2:
+    (chi^2, f0)."""
+    w = [1 / max(e, 1e-12 * abs(v), 1e-300) ** 2 for e, v in zip(se, f)]
+    x = [hh ** p for hh in h]
+    sw, sx, sxx = sum(w), sum(wi * xi for wi, xi in zip(w, x)), sum(wi * xi * xi for wi, xi in zip(w, x))
+    sf, sxf = sum(wi * fi for wi, fi in zip(w, f)), sum(wi * xi * fi for wi, xi, fi in zip(w, x, f))
+    det = sw * sxx - sx * sx
+    c = (sw * sxf - sx * sf) / det
+    f0 = (sf - c * sx) / sw
+    return sum(wi * (fi - f0 - c * xi) ** 2 for wi, xi, fi in zip(w, x, f)), f0
+
+
+P_RANGE = (0.05, 8.0)
+
+
+def order_fit(h, f, se):
+    """Observed order p and extrapolated value f0 of f = f0 + C h^p over all
+    the resolutions given (three or more; with three it is the exact
+    three-point solution). Returns (p, f0, (p_lo, p_hi), (f0_lo, f0_hi)), the
+    ranges being where chi^2(p) stays within max(1, chi^2_min / (n - 3)) of
+    its least (one standard error of the runs' means, scaled up by the misfit
+    when the points scatter more than their errors; Particle Data Group
+    practice), or None when the order is not measurable: three points not
+    monotone, or the least chi^2 at an end of [0.05, 8]."""
+    n = len(h)
+    if n < 3 or (n == 3 and observed_order(h, f) is None):
+        return None
+    grid = [P_RANGE[0] + i * 0.005 for i in range(int((P_RANGE[1] - P_RANGE[0]) / 0.005) + 1)]
+    chi = [power_fit(h, f, se, p)[0] for p in grid]
+    i = min(range(len(grid)), key=lambda j: chi[j])
+    if i in (0, len(grid) - 1):
+        return None
+    lo, hi = grid[i - 1], grid[i + 1]  # golden-section refinement of the grid's least
+    g = (math.sqrt(5) - 1) / 2
+    for _ in range(60):
+        a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+        if power_fit(h, f, se, a)[0] < power_fit(h, f, se, b)[0]:
+            hi = b
+        else:
+            lo = a
+    p = (lo + hi) / 2
+    if n == 3:
+        p = observed_order(h, f)  # the exact solution, to full precision
+    chi_min, f0 = power_fit(h, f, se, p)
+    allow = max(1.0, chi_min / (n - 3)) if n > 3 else 1.0
+    inside = [q for q, c in zip(grid, chi) if c <= chi_min + allow] or [p]
+    f0s = [power_fit(h, f, se, q)[1] for q in inside] + [f0]
+    return p, f0, (min(inside), max(inside)), (min(f0s), max(f0s))
+
+
 QUANT = [("T", "T", 0.05), ("inclination", "inclination (deg)", 0.05), ("intrinsic", "[mu]", 0.10),
          ("N1_per_Phi", "N1 / Phi", 0.10)]
+# N1's elastic and viscous parts (runs since round 10); the theory's are
+# (a^2 - b^2) cos(2 theta) / Ca (the homogeneous particle's G (B_11 - B_22) /
+# (mu_f gamma), B's axes being the ellipsoid's) and the rest of N1
+PARTS = [("N1_elastic_per_Phi", "N1 elastic / Phi", None), ("N1_viscous_per_Phi", "N1 viscous / Phi", None)]
 
 
 CONV_CASES = ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10))
-PPRS = (3, 4, 6, 8, 12)  # the table's columns
+PPRS = (3, 4, 5, 6, 7, 8, 12)  # the table's columns
+FIT_FROM = 4  # the fit takes every resolution from 4 ppr (3 ppr is the speed set's, outside the range)
+
+
+def extrapolate(recs, key):
+    """(used ppr, values, order fit or None, Richardson value, its error bar) of
+    one quantity over the runs in recs (ppr -> record)."""
+    use = [p for p in sorted(recs) if p >= FIT_FROM and recs[p] and key in recs[p]["q"]]
+    if len(use) < 2:
+        return None
+    h = [1 / p for p in use]
+    f = [recs[p]["q"][key][0] for p in use]
+    se = [recs[p]["q"][key][1] for p in use]
+    fit = order_fit(h, f, se) if len(use) >= 3 else None
+    # order unclear: the two finest at the formal order 2
+    fin = fit[1] if fit else richardson(h, f, None)[0]
+    return use, f, fit, fin, math.hypot(fin - f[-1], 2 * se[-1])
 
 
 def convergence_table(scheme, title, csv_rows):
     """The convergence section of one phi scheme (its rows also appended to csv_rows)."""
     lines = [f"## Convergence ({title} phi)", "",
-             "The three finest resolutions run of 3, 4, 6, 8 and 12 points per radius (ppr) give the observed"
-             " order and the Richardson value (its error bar: the size of the extrapolation, combined with"
-             " twice the finest run's standard error); with two resolutions only, the order is not"
-             " measured ('unclear') and the Richardson value assumes the formal order 2.", "",
+             f"Every resolution run from {FIT_FROM} points per radius (ppr) up gives the observed order p and"
+             " the Richardson value f0 of f = f0 + C h^p (h = 1 / ppr), fitted by least squares weighted with"
+             " each run's standard error (with three resolutions, the exact three-point solution). In"
+             " brackets: the range of p, and of f0, within one standard error (chi^2 within max(1, chi^2_min"
+             " / (n - 3)) of its least). The Richardson error bar is the size of the extrapolation from the"
+             " finest run, combined with twice that run's standard error. 'unclear': three resolutions not"
+             " monotone, or the best p at an end of [0.05, 8]; then the formal order 2.", "",
              "| Ca | K | quantity | " + " | ".join(f"{p} ppr" for p in PPRS) + " | observed order | Richardson | "
              "theory | Richardson vs theory | within |", "|" + "---|" * (8 + len(PPRS))]
     for ca, k in CONV_CASES:
-        m = {p: measure((ca, k, scheme, p)) for p in PPRS}
-        use = [p for p in PPRS if m[p]][-3:]
+        recs = {p: record((ca, k, scheme, p)) for p in PPRS}
         th = theory(ca, k)
-        for key, label, tol in QUANT:
-            cells = [f"{m[p]['q'][key][0]:.4f} ± {m[p]['q'][key][1]:.4f}" if m[p] else "-" for p in PPRS]
-            if len(use) < 2:
-                lines.append(f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) + " | - | - | "
-                             f"{th[key]:.4f} | - | - |")
+        quants = QUANT + (PARTS if any(r and PARTS[0][0] in r["q"] for r in recs.values()) else [])
+        for key, label, tol in quants:
+            cells = [f"{recs[p]['q'][key][0]:.4f} ± {recs[p]['q'][key][1]:.4f}" if recs[p] and key in recs[p]["q"]
+                     else "-" for p in PPRS]
+            row = f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells)
+            x = extrapolate(recs, key)
+            if x is None:
+                lines.append(row + f" | - | - | {th[key]:.4f} | - | - |")
                 continue
-            vals = [m[p]["q"][key] for p in use]
-            h = [1 / p for p in use]
-            f = [v[0] for v in vals]
-            p = observed_order(h, f) if len(use) == 3 else None
-            fin, err = richardson(h, f, p)
-            err = math.hypot(err, 2 * vals[-1][1])
+            use, f, fit, fin, err = x
             rel = fin / th[key] - 1
-            ok = abs(rel) <= tol
-            lines.append(f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) +
-                         f" | {p:.2f} | {fin:.4f} ± {err:.4f} | {th[key]:.4f} | {100 * rel:+.1f}% | "
-                         f"{'yes' if ok else 'NO'} ({100 * tol:g}%) |" if p is not None else
-                         f"| {ca:g} | {k:g} | {label} | " + " | ".join(cells) +
-                         f" | unclear | {fin:.4f} ± {err:.4f} (p = 2) | {th[key]:.4f} | {100 * rel:+.1f}% | "
-                         f"{'yes' if ok else 'NO'} ({100 * tol:g}%) |")
+            verdict = f"{'yes' if abs(rel) <= tol else 'NO'} ({100 * tol:g}%)" if tol else "(a part)"
+            if fit:
+                p, _, (plo, phi_), (flo, fhi) = fit
+                order = f"{p:.2f} ({plo:.2f}-{phi_:.2f})"
+                rich = f"{fin:.4f} ± {err:.4f} ({flo:.4f} to {fhi:.4f})"
+            else:
+                p = None
+                order, rich = "unclear", f"{fin:.4f} ± {err:.4f} (p = 2)"
+            lines.append(row + f" | {order} | {rich} | {th[key]:.4f} | {100 * rel:+.1f}% | {verdict} |")
             csv_rows.append({"scheme": scheme, "Ca": ca, "K": k, "quantity": key,
-                             "ppr": "/".join(map(str, use)), "values": "/".join(f"{x:.6g}" for x in f),
-                             "order": p, "richardson": fin, "richardson_err": err, "theory": th[key]})
+                             "ppr": "/".join(map(str, use)), "values": "/".join(f"{v:.6g}" for v in f),
+                             "order": p, "order_lo": fit[2][0] if fit else None,
+                             "order_hi": fit[2][1] if fit else None, "richardson": fin, "richardson_err": err,
+                             "richardson_lo": fit[3][0] if fit else None,
+                             "richardson_hi": fit[3][1] if fit else None, "theory": th[key]})
     return lines + [""]
 
 
@@ -267,15 +388,11 @@ def halves_table(scheme, title):
              "---|" * len(QUANT)]
     for ca, k in CONV_CASES:
         for p in PPRS:
-            lo, hi = window_of(ca, k)
-            a, b = measure((ca, k, scheme, p), lo, (lo + hi) / 2), measure((ca, k, scheme, p), (lo + hi) / 2, hi)
-            if not a:
+            rec = record((ca, k, scheme, p))
+            if not rec:
                 continue
-            cells = []
-            for key, _, _ in QUANT:
-                (m1, s1), (m2, s2) = a["q"][key], b["q"][key]
-                tol = max(2 * math.hypot(s1, s2), 0.01 * abs(m1))
-                cells.append(f"{100 * (m2 / m1 - 1):+.1f}% {'yes' if abs(m2 - m1) <= tol else 'NO'}")
+            cells = [f"{100 * rec['halves'][key][0]:+.1f}% {'yes' if rec['halves'][key][1] else 'NO'}"
+                     for key, _, _ in QUANT]
             lines.append(f"| {ca:g} | {k:g} | {p} | " + " | ".join(cells) + " |")
     return lines + [""]
 
@@ -287,11 +404,13 @@ def cmd_report(_):
              " (its docstring has the set-up: 16r x 16r x 16r box, walls 8r from the sphere, Re = 0.1,"
              f" from the Couette profile, averages over strain [{FROM:g}, {STRAIN:g}), [6, 14) at K = 10). "
              "Theory: shared/spec/dilute_theory.csv (unbounded). Tolerances of the issue: T and"
-             " inclination within 5% of the theory, [mu] and N1 within 10%.", "",
+             " inclination within 5% of the theory, [mu] and N1 within 10%. Each run's figures are kept in"
+             " perf/results/dilute_runs/ (the report takes a run from output/dilute/ where it is there, else"
+             " from that record).", "",
              ]
     csv_rows = []
     for scheme, title in (("thinc", "THINC"), ("mthinc", "MTHINC")):
-        if not any(measure((ca, k, scheme, p)) for ca, k in CONV_CASES for p in (3, 4, 6, 8)):
+        if not any(record((ca, k, scheme, p)) for ca, k in CONV_CASES for p in PPRS):
             continue
         lines += convergence_table(scheme, title, csv_rows)
         lines += halves_table(scheme, title)
@@ -303,18 +422,16 @@ def cmd_report(_):
               "| phi scheme | ppr | steps | wall s / strain | T | err T vs theory | err T vs Richardson | [mu] | "
               "err [mu] vs theory | err [mu] vs Richardson |", "|" + "---|" * 10]
     th = theory(0.2, 1)
-    conv = {p: measure((0.2, 1, "thinc", p)) for p in (3, 4, 6, 8)}
-    use = [p for p in (3, 4, 6, 8) if conv[p]][-3:]
+    conv = {p: record((0.2, 1, "thinc", p)) for p in PPRS}
     rich = {}
-    if len(use) >= 2:
-        h = [1 / p for p in use]
-        for key in ("T", "intrinsic"):
-            f = [conv[p]["q"][key][0] for p in use]
-            rich[key] = richardson(h, f, observed_order(h, f) if len(use) == 3 else None)[0]
+    for key in ("T", "intrinsic"):
+        x = extrapolate(conv, key)
+        if x:
+            rich[key] = x[3]
     pts, speed_rows = [], []
     for scheme in ("thinc", "mthinc", "weno5"):
         for ppr in (3, 4, 6, 8):
-            x = measure((0.2, 1, scheme, ppr))
+            x = record((0.2, 1, scheme, ppr))
             if not x:
                 continue
             T, mu = x["q"]["T"][0], x["q"]["intrinsic"][0]

@@ -130,7 +130,7 @@ FlowProfiles Diagnostics::profiles() {
   return p;
 }
 
-void Diagnostics::normal_stress_differences(Real& n1, Real& n2) {
+void Diagnostics::normal_stress_differences(Real& n1, Real& n2, Real& n1_elastic) {
   const Grid g = s_.grid();
   const Config& c = s_.config();
   auto u = s_.state().u, v = s_.state().v, w = s_.state().w;
@@ -143,10 +143,10 @@ void Diagnostics::normal_stress_differences(Real& n1, Real& n2) {
   const Real G = solid ? c.shear_modulus() : 0;
   const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
   // sigma_11 - sigma_22 and sigma_22 - sigma_33 at the cell centres, in one pass
-  detail::Sums<2> sums;
+  detail::Sums<3> sums;
   par_reduce(
       "diagnostics_normal_stress_differences", g.interior(),
-      KOKKOS_LAMBDA(int i, int j, int k, detail::Sums<2>& a) {
+      KOKKOS_LAMBDA(int i, int j, int k, detail::Sums<3>& a) {
         const Real f = solid ? fraction(phi(i, j, k)) : Real(0), mu = mu_f + dmu * f;
         Real s11 = 2 * mu * (u(i, j, k) - u(i - 1, j, k)) * idx;
         Real s22 = 2 * mu * (v(i, j, k) - v(i, j - 1, k)) * idy;
@@ -155,15 +155,16 @@ void Diagnostics::normal_stress_differences(Real& n1, Real& n2) {
           s11 += G * f * (bxx(i, j, k) - 1);
           s22 += G * f * (byy(i, j, k) - 1);
           s33 += G * f * (bzz(i, j, k) - 1);
+          a.q[2] += G * f * (bxx(i, j, k) - byy(i, j, k));
         }
         a.q[0] += s11 - s22;
         a.q[1] += s22 - s33;
       },
-      Kokkos::Sum<detail::Sums<2>>(sums));
-  Real b[2] = {sums.q[0], sums.q[1]};
-  MPI_Allreduce(MPI_IN_PLACE, b, 2, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
+      Kokkos::Sum<detail::Sums<3>>(sums));
+  Real b[3] = {sums.q[0], sums.q[1], sums.q[2]};
+  MPI_Allreduce(MPI_IN_PLACE, b, 3, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
   const Real cells = Real(g.cells_global());
-  n1 = b[0] / cells, n2 = b[1] / cells;
+  n1 = b[0] / cells, n2 = b[1] / cells, n1_elastic = b[2] / cells;
 }
 
 FlowScalars Diagnostics::scalars() {
@@ -183,8 +184,8 @@ FlowScalars Diagnostics::scalars() {
     for (size_t r = 0; r < prof.size(); ++r) sum += (r == 0 || r + 1 == prof.size() ? 0.5 : 1.0) * prof[r];
     *avg[b] = sum / Real(prof.size() - 1) / unit;
   }
-  normal_stress_differences(f.n1, f.n2);
-  f.n1 /= unit, f.n2 /= unit;
+  normal_stress_differences(f.n1, f.n2, f.n1_elastic);
+  f.n1 /= unit, f.n2 /= unit, f.n1_elastic /= unit;
 
   const Grid g = s_.grid();
   auto u = s_.state().u, v = s_.state().v, w = s_.state().w;

@@ -46,6 +46,10 @@ struct FlowScalars {
   // shear stress phi G B_xy carried by cells with phi < 0.1
   Real detb_raw_min = 1, detb_raw_max = 1, unimodular_removed = 0, elastic_share_lowphi = 0;
   Real solid_share_lowphi = 0;  // share of the solid volume in cells with phi < 0.1 (shed wisps)
+  // the elastic part of n1, <<phi G (B_11 - B_22)>> / (mu_f gamma); n1 minus it is
+  // the viscous part (at K != 1 the two nearly cancel, so each part's
+  // convergence is measured on its own)
+  Real n1_elastic = 0;
   // cell-stages whose B took the first-order fallback since the previous row
   // (kernels/solid_b_fallback.hpp), over all ranks
   long b_fallback_cells = 0;
@@ -78,7 +82,8 @@ class Diagnostics {
   // public only because nvcc forbids extended (KOKKOS_LAMBDA) lambdas in
   // private or protected member functions
   void plane_sums();  // fills sums_ (device) and reduces over ranks into host_
-  void normal_stress_differences(Real& n1, Real& n2);  // box sums of sigma_11 - sigma_22, sigma_22 - sigma_33
+  // box means of sigma_11 - sigma_22, sigma_22 - sigma_33 and the elastic part of the first
+  void normal_stress_differences(Real& n1, Real& n2, Real& n1_elastic);
 
  private:
   FlowSolver& s_;

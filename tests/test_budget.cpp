@@ -3,7 +3,8 @@
 //     profile: the stress is uniform, so the profile stays linear and the
 //     solid is in simple shear of amount kappa = gamma t: B_12 = kappa,
 //     B_11 = 1 + kappa^2. Elastic shear stress G kappa, viscous K mu_f gamma,
-//     N1 = G kappa^2, N2 = 0, exactly (RK3 integrates the quadratic exactly).
+//     N1 = G kappa^2, N2 = 0, exactly (RK3 integrates the quadratic exactly);
+//     all of N1 is elastic (simple shear has no viscous normal stresses).
 //  2. A neo-Hookean layer |y| < a bonded between two Newtonian layers in
 //     steady Couette flow: the total shear stress is uniform across the gap,
 //     carried by the fluid viscous term outside the layer and by the elastic
@@ -60,6 +61,7 @@ TEST(Budget, UniformlyShearedSolidHasTheExactStresses) {
         worst, f.n1, G * kappa * kappa / unit, f.n2, f.mu_eff, (K * mu + G * kappa) / unit);
   EXPECT_LT(worst, 1e-10);
   EXPECT_NEAR(f.n1, G * kappa * kappa / unit, 1e-10);
+  EXPECT_NEAR(f.n1_elastic, G * kappa * kappa / unit, 1e-10);
   EXPECT_NEAR(f.n2, 0.0, 1e-10);
   EXPECT_NEAR(f.mu_eff, (K * mu + G * kappa) / unit, 1e-10);
   EXPECT_NEAR(f.particle_elastic, G * kappa / unit, 1e-10);
