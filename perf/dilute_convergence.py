@@ -276,11 +276,12 @@ def order_fit(h, f, se):
     ranges being where chi^2(p) stays within max(1, chi^2_min / (n - 3)) of
     its least (one standard error of the runs' means, scaled up by the misfit
     when the points scatter more than their errors; Particle Data Group
-    practice), or None when the order is not measurable: three points not
-    monotone, or the least chi^2 at an end of [0.05, 8]."""
+    practice), or None when the order is not measurable: the values not
+    monotone in h, or the least chi^2 at an end of [0.05, 8]."""
     n = len(h)
-    if n < 3 or (n == 3 and observed_order(h, f) is None):
-        return None
+    d = [a - b for a, b in zip(f, f[1:])]
+    if n < 3 or any(x * d[0] <= 0 for x in d) or (n == 3 and observed_order(h, f) is None):
+        return None  # not monotone: no single power law (Eca & Hoekstra 2014 call this oscillatory)
     grid = [P_RANGE[0] + i * 0.005 for i in range(int((P_RANGE[1] - P_RANGE[0]) / 0.005) + 1)]
     chi = [power_fit(h, f, se, p)[0] for p in grid]
     i = min(range(len(grid)), key=lambda j: chi[j])
@@ -340,14 +341,15 @@ def convergence_table(scheme, title, csv_rows):
              " each run's standard error (with three resolutions, the exact three-point solution). In"
              " brackets: the range of p, and of f0, within one standard error (chi^2 within max(1, chi^2_min"
              " / (n - 3)) of its least). The Richardson error bar is the size of the extrapolation from the"
-             " finest run, combined with twice that run's standard error. 'unclear': three resolutions not"
-             " monotone, or the best p at an end of [0.05, 8]; then the formal order 2.", "",
+             " finest run, combined with twice that run's standard error. 'unclear': the values not monotone"
+             " in h, or the best p at an end of [0.05, 8]; then the two finest at the formal order 2.", "",
              "| Ca | K | quantity | " + " | ".join(f"{p} ppr" for p in PPRS) + " | observed order | Richardson | "
              "theory | Richardson vs theory | within |", "|" + "---|" * (8 + len(PPRS))]
     for ca, k in CONV_CASES:
         recs = {p: record((ca, k, scheme, p)) for p in PPRS}
         th = theory(ca, k)
         quants = QUANT + (PARTS if any(r and PARTS[0][0] in r["q"] for r in recs.values()) else [])
+        done = {}
         for key, label, tol in quants:
             cells = [f"{recs[p]['q'][key][0]:.4f} ± {recs[p]['q'][key][1]:.4f}" if recs[p] and key in recs[p]["q"]
                      else "-" for p in PPRS]
@@ -357,6 +359,7 @@ def convergence_table(scheme, title, csv_rows):
                 lines.append(row + f" | - | - | {th[key]:.4f} | - | - |")
                 continue
             use, f, fit, fin, err = x
+            done[key] = (use, fin, err)
             rel = fin / th[key] - 1
             verdict = f"{'yes' if abs(rel) <= tol else 'NO'} ({100 * tol:g}%)" if tol else "(a part)"
             if fit:
@@ -373,6 +376,21 @@ def convergence_table(scheme, title, csv_rows):
                              "order_hi": fit[2][1] if fit else None, "richardson": fin, "richardson_err": err,
                              "richardson_lo": fit[3][0] if fit else None,
                              "richardson_hi": fit[3][1] if fit else None, "theory": th[key]})
+        if all(key in done for key, _, _ in PARTS):
+            # N1 is the difference of two parts that converge from opposite
+            # sides at their own orders, so one power law fits it worse than
+            # one each; their Richardson values summed are N1's
+            (use, e0, ee), (_, v0, ve) = done[PARTS[0][0]], done[PARTS[1][0]]
+            fin, err, tol = e0 + v0, math.hypot(ee, ve), 0.10
+            rel = fin / th["N1_per_Phi"] - 1
+            lines.append(f"| {ca:g} | {k:g} | N1 / Phi, sum of its parts' Richardson values | " +
+                         " | ".join("-" for _ in PPRS) + f" | - | {fin:.4f} ± {err:.4f} | "
+                         f"{th['N1_per_Phi']:.4f} | {100 * rel:+.1f}% | {'yes' if abs(rel) <= tol else 'NO'} "
+                         f"({100 * tol:g}%) |")
+            csv_rows.append({"scheme": scheme, "Ca": ca, "K": k, "quantity": "N1_per_Phi_from_parts",
+                             "ppr": "/".join(map(str, use)), "values": "", "order": None, "order_lo": None,
+                             "order_hi": None, "richardson": fin, "richardson_err": err, "richardson_lo": None,
+                             "richardson_hi": None, "theory": th["N1_per_Phi"]})
     return lines + [""]
 
 
