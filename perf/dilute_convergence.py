@@ -39,6 +39,7 @@ unbounded limit. Walls 8r away raise [mu] and change T by a few percent.
 """
 import argparse
 import csv
+import functools
 import json
 import math
 import os
@@ -179,6 +180,7 @@ def measure(run, lo=None, hi=None):
 RECORDS = os.path.join(RESULTS, "dilute_runs")
 
 
+@functools.lru_cache(maxsize=None)  # each table asks again; read and write each run once
 def record(run):
     """What the report needs of one run: its window's quantities and the
     relative difference of its two halves. Taken from output/ when the run is
