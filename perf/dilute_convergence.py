@@ -2,7 +2,7 @@
 """One sphere in shear against the exact dilute theory: convergence, and
 speed against error.
 
-  perf/dilute_convergence.py run [--set conv|speed|all] [--only NAME,...] [--threads N]
+  perf/dilute_convergence.py run [--set conv|speed|all|narrow] [--only NAME,...] [--threads N]
                                  [--scheme thinc|mthinc] [--ppr 4,6,8]
   perf/dilute_convergence.py report     # -> perf/results/dilute_convergence.{md,csv},
                                         #    dilute_speed_error.{csv,png}
@@ -18,12 +18,15 @@ also compares each window's halves (the issue's stationarity test).
 
 - conv: Ca = 0.1, 0.2, 0.4 at K = 1 and Ca = 0.2 at K = 10, THINC phi (or
   --scheme mthinc), at 4, 6 and 8 points per radius (ppr; --ppr 12 adds the
-  refinement the issue asks for where the order is unclear, about 5 h a run on
-  one core; --ppr 5,7 add resolutions inside the range, which pin the order
+  refinement the issue asks for where the order is unclear: 192^3 cells,
+  about 6 s a step on two cores, 5.5 h at K = 10; --ppr 5,7 add resolutions inside the range, which pin the order
   at a fraction of 12's cost); the observed order and a Richardson estimate
   from a least-squares fit over every resolution from 4 ppr, for T, the
   inclination, [mu] and N1 / Phi, and for N1's elastic and viscous parts
   where the runs record them. The report has one table per scheme run.
+- narrow: Ca = 0.2, K = 10, THINC, in a box 8r wide in x and z (walls still
+  8r away) at --ppr (4 to 12): the order of K = 10's N1 where the full box's
+  12 ppr does not fit in a session (narrow_table says how it is used).
 - speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, MTHINC,
   WENO5).
   Its error against the theory and against the Richardson value, against
@@ -53,6 +56,11 @@ OUT = os.path.join(ROOT, "output", "dilute")
 RESULTS = os.path.join(ROOT, "perf", "results")
 THEORY = os.path.join(ROOT, "..", "shared", "spec", "dilute_theory.csv")
 STRAIN, FROM = 12.0, 4.0
+# The narrow set's box width in x and z (walls still 8r away): a quarter of
+# the cells, so that K = 10 can reach 12 ppr on two cores in about 1.5 h. It
+# measures the order of the discretisation error, which is set near the
+# particle; its periodic images are 8r apart instead of 16r (Phi 0.004).
+NARROW = 8
 
 
 def window_of(ca, k):
@@ -64,12 +72,12 @@ def window_of(ca, k):
     return (6.0, 14.0) if k >= 10 else (FROM, STRAIN)
 
 CASE = """[grid]
-nx = {n}
+nx = {nw}
 ny = {n}
-nz = {n}
-lx = 16.0
+nz = {nw}
+lx = {w:.1f}
 ly = 16.0
-lz = 16.0
+lz = {w:.1f}
 [fluid]
 rho = 1.0
 mu = 10.0
@@ -99,7 +107,10 @@ checkpoint_every = {checkpoint}
 
 
 def runs(which, conv_scheme="thinc", conv_ppr=(4, 6, 8)):
+    """The runs of a set, each (Ca, K, scheme, ppr) or (Ca, K, scheme, ppr, width)."""
     out = []
+    if which == "narrow":
+        return [(0.2, 10, "thinc", ppr, NARROW) for ppr in conv_ppr]
     if which in ("conv", "all"):
         for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
             for ppr in conv_ppr:
@@ -116,12 +127,18 @@ def runs(which, conv_scheme="thinc", conv_ppr=(4, 6, 8)):
     return uniq
 
 
-def name_of(ca, k, scheme, ppr):
-    return f"ca{ca:g}_k{k:g}_{scheme}_r{ppr}"
+def name_of(ca, k, scheme, ppr, width=16):
+    return f"ca{ca:g}_k{k:g}_{scheme}_r{ppr}" + ("" if width == 16 else f"_w{width:g}")
+
+
+def width_of(run):
+    """The box's length in x and z (radii); 16 unless the run names another."""
+    return run[4] if len(run) > 4 else 16
 
 
 def run_one(run, threads):
-    ca, k, scheme, ppr = run
+    ca, k, scheme, ppr = run[:4]
+    w = width_of(run)
     name = name_of(*run)
     d = os.path.join(OUT, name)
     try:
@@ -134,7 +151,7 @@ def run_one(run, threads):
     case = os.path.join(OUT, name + ".toml")
     with open(case, "w") as f:
         # a checkpoint about every 15 minutes of one core (a session's end loses less)
-        f.write(CASE.format(n=16 * ppr, ca=ca, k=k, scheme=scheme, strain=window_of(ca, k)[1], dir=d,
+        f.write(CASE.format(n=16 * ppr, nw=round(w * ppr), w=w, ca=ca, k=k, scheme=scheme, strain=window_of(ca, k)[1], dir=d,
                             checkpoint=400 if ppr <= 8 else 150))
     cmd = [os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "env", f"OMP_NUM_THREADS={threads}",
            os.path.join(ROOT, "build", "softflow"), case]
@@ -163,7 +180,7 @@ def measure(run, lo=None, hi=None):
         return [r for r in rows if lo <= float(r["strain"]) < hi + 1e-9]
     series = window(csv.DictReader(open(os.path.join(d, "series.csv"))))
     parts = window(csv.DictReader(open(os.path.join(d, "particles.csv"))))
-    phi = float(series[-1]["solid_volume"]) / 16.0 ** 3
+    phi = float(series[-1]["solid_volume"]) / (16.0 * width_of(run) ** 2)
     q = {"T": batch_mean([float(r["taylor_mean"]) for r in parts]),
          "inclination": batch_mean([float(r["angle_mean_deg"]) for r in parts]),
          "intrinsic": batch_mean([(float(r["mu_eff"]) - 1) / phi for r in series]),
@@ -417,6 +434,87 @@ def halves_table(scheme, title):
     return lines + [""]
 
 
+NARROW_PPRS = (4, 5, 6, 7, 8, 12)
+
+
+def narrow_table(csv_rows):
+    """K = 10 in the narrow box up to 12 ppr: the order there, and the full
+    box's Richardson value two ways, both resting on the discretisation error
+    being the same in the two boxes (which the runs at 4-8 ppr in both test):
+    (a) the full box's runs fitted at the narrow box's order; (b) the narrow
+    box's Richardson value plus the mean difference full - narrow."""
+    ca, k = 0.2, 10
+    narrow = {p: record((ca, k, "thinc", p, NARROW)) for p in NARROW_PPRS}
+    if sum(1 for r in narrow.values() if r) < 3:
+        return []
+    full = {p: record((ca, k, "thinc", p)) for p in NARROW_PPRS}
+    th = theory(ca, k)
+    lines = [f"## K = 10 to 12 ppr in a narrower box (THINC phi, {NARROW}r x 16r x {NARROW}r)", "",
+             f"`perf/dilute_convergence.py run --set narrow --ppr {','.join(map(str, NARROW_PPRS))} --threads 2`:"
+             f" Ca = 0.2, K = 10, the box {NARROW}r wide in x and z instead of 16r (walls still 8r from the"
+             " sphere, periodic images 8r apart, Phi = 0.004), a quarter of the cells, so that 12 ppr costs"
+             " about 1.5 h on two cores instead of 6. Same window [6, 14). The narrow box's own values differ"
+             " from the full box's by the images' interaction; what it is for is the order of the"
+             " discretisation error, which is set at the particle. 'full - narrow' tests that: if it does not"
+             " depend on h (chi^2 per degree of freedom near 1), the two boxes share their discretisation"
+             " error, and the full box's Richardson value follows (a) by fitting its 4-8 ppr runs at the"
+             " narrow box's order (brackets: over that order's range), (b) as the narrow box's Richardson"
+             " value plus the mean of full - narrow.", "",
+             "| quantity | " + " | ".join(f"{p} ppr" for p in NARROW_PPRS) + " | observed order | Richardson"
+             " (narrow box) | full - narrow: mean, chi^2/dof | full box (a): at the narrow order | full box"
+             " (b): narrow + difference | theory | (a) vs theory | (b) vs theory |",
+             "|" + "---|" * (9 + len(NARROW_PPRS))]
+    for key, label, tol in QUANT + PARTS:
+        if not all(r is None or key in r["q"] for r in narrow.values()):
+            continue
+        cells = [f"{narrow[p]['q'][key][0]:.4f} ± {narrow[p]['q'][key][1]:.4f}" if narrow[p] else "-"
+                 for p in NARROW_PPRS]
+        x = extrapolate(narrow, key)
+        if x is None:
+            continue
+        use, f, fit, fin, err = x
+        order = f"{fit[0]:.2f} ({fit[2][0]:.2f}-{fit[2][1]:.2f})" if fit else "unclear"
+        both = [p for p in NARROW_PPRS if narrow[p] and full[p] and key in full[p]["q"]]
+        d = [full[p]["q"][key][0] - narrow[p]["q"][key][0] for p in both]
+        dse = [math.hypot(full[p]["q"][key][1], narrow[p]["q"][key][1]) for p in both]
+        w = [1 / e ** 2 for e in dse]
+        dm = sum(wi * di for wi, di in zip(w, d)) / sum(w)
+        chi = sum(wi * (di - dm) ** 2 for wi, di in zip(w, d)) / max(1, len(d) - 1)
+        dm_se = math.sqrt(max(1.0, chi) / sum(w))
+        b, b_err = fin + dm, math.hypot(err, dm_se)
+        a_txt, a_val = "-", None
+        if fit and len(both) >= 2:
+            hf = [1 / p for p in both]
+            ff = [full[p]["q"][key][0] for p in both]
+            sf = [full[p]["q"][key][1] for p in both]
+            a_val = power_fit(hf, ff, sf, fit[0])[1]
+            ends = [power_fit(hf, ff, sf, q)[1] for q in fit[2]]
+            a_txt = f"{a_val:.4f} ({min(ends):.4f} to {max(ends):.4f})"
+
+        def verdict(v):
+            if v is None:
+                return "-"
+            rel = v / th[key] - 1
+            return f"{100 * rel:+.1f}%" + (f" {'yes' if abs(rel) <= tol else 'NO'}" if tol else "")
+        lines.append(f"| {label} | " + " | ".join(cells) + f" | {order} | {fin:.4f} ± {err:.4f} | "
+                     f"{dm:+.4f} ± {dm_se:.4f}, {chi:.1f} | {a_txt} | {b:.4f} ± {b_err:.4f} | {th[key]:.4f} | "
+                     f"{verdict(a_val)} | {verdict(b)} |")
+        csv_rows.append({"scheme": f"thinc_narrow{NARROW}", "Ca": ca, "K": k, "quantity": key,
+                         "ppr": "/".join(map(str, use)), "values": "/".join(f"{v:.6g}" for v in f),
+                         "order": fit[0] if fit else None, "order_lo": fit[2][0] if fit else None,
+                         "order_hi": fit[2][1] if fit else None, "richardson": fin, "richardson_err": err,
+                         "richardson_lo": fit[3][0] if fit else None, "richardson_hi": fit[3][1] if fit else None,
+                         "theory": th[key]})
+    lines += ["", "Halves of each narrow run's window (as above):", "",
+              "| ppr | " + " | ".join(label for _, label, _ in QUANT) + " |", "|---|" + "---|" * len(QUANT)]
+    for p in NARROW_PPRS:
+        if narrow[p]:
+            lines.append(f"| {p} | " + " | ".join(
+                f"{100 * narrow[p]['halves'][key][0]:+.1f}% {'yes' if narrow[p]['halves'][key][1] else 'NO'}"
+                for key, _, _ in QUANT) + " |")
+    return lines + [""]
+
+
 def cmd_report(_):
     lines = ["# One sphere in shear against the exact dilute theory", "",
              "Produced by `perf/dilute_convergence.py run --set all` (and `run --set conv --scheme mthinc`)"
@@ -434,6 +532,7 @@ def cmd_report(_):
             continue
         lines += convergence_table(scheme, title, csv_rows)
         lines += halves_table(scheme, title)
+    lines += narrow_table(csv_rows)
     # speed against error
     lines += ["## Speed against error (Ca = 0.2, K = 1)", "",
               "Error of each run against the theory and against the Richardson value of the THINC series"
@@ -518,7 +617,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run")
-    r.add_argument("--set", default="all", choices=["conv", "speed", "all"])
+    r.add_argument("--set", default="all", choices=["conv", "speed", "all", "narrow"])
     r.add_argument("--only", default=None, help="comma-separated run names")
     r.add_argument("--threads", type=int, default=1)
     r.add_argument("--scheme", default="thinc", choices=["thinc", "mthinc", "weno5"],
