@@ -2,7 +2,7 @@
 """One sphere in shear against the exact dilute theory: convergence, and
 speed against error.
 
-  perf/dilute_convergence.py run [--set conv|speed|all|narrow] [--only NAME,...] [--threads N]
+  perf/dilute_convergence.py run [--set conv|speed|all|narrow|walls] [--only NAME,...] [--threads N]
                                  [--scheme thinc|mthinc] [--ppr 4,6,8]
   perf/dilute_convergence.py report     # -> perf/results/dilute_convergence.{md,csv},
                                         #    dilute_speed_error.{csv,png}
@@ -27,6 +27,8 @@ also compares each window's halves (the issue's stationarity test).
 - narrow: Ca = 0.2, K = 10, THINC, in a box 8r wide in x and z (walls still
   8r away) at --ppr (4 to 12): the order of K = 10's N1 where the full box's
   12 ppr does not fit in a session (narrow_table says how it is used).
+- walls: the same K = 10 case in the full box with the walls 16r from the
+  sphere (32r apart), at --ppr (4 to 6): what the walls add to it.
 - speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, MTHINC,
   WENO5).
   Its error against the theory and against the Richardson value, against
@@ -57,10 +59,14 @@ RESULTS = os.path.join(ROOT, "perf", "results")
 THEORY = os.path.join(ROOT, "..", "shared", "spec", "dilute_theory.csv")
 STRAIN, FROM = 12.0, 4.0
 # The narrow set's box width in x and z (walls still 8r away): a quarter of
-# the cells, so that K = 10 can reach 12 ppr on two cores in about 1.5 h. It
-# measures the order of the discretisation error, which is set near the
-# particle; its periodic images are 8r apart instead of 16r (Phi 0.004).
+# the cells, so that K = 10 reaches 12 ppr on two cores in 67 min (5.5 h in
+# the full box). It measures the order of the discretisation error, which is
+# set near the particle; its periodic images are 8r apart instead of 16r
+# (Phi 0.004).
 NARROW = 8
+# The walls set's distance between the walls (radii): 16r from the sphere
+# instead of 8r, to measure what the walls add to K = 10's N1.
+WALLS = 32
 
 
 def window_of(ca, k):
@@ -73,16 +79,16 @@ def window_of(ca, k):
 
 CASE = """[grid]
 nx = {nw}
-ny = {n}
+ny = {nh}
 nz = {nw}
 lx = {w:.1f}
-ly = 16.0
+ly = {hgt:.1f}
 lz = {w:.1f}
 [fluid]
 rho = 1.0
 mu = 10.0
 [walls]
-velocity = 8.0
+velocity = {vw:.1f}
 [particles]
 radius = 1.0
 count = 1
@@ -111,6 +117,8 @@ def runs(which, conv_scheme="thinc", conv_ppr=(4, 6, 8)):
     out = []
     if which == "narrow":
         return [(0.2, 10, "thinc", ppr, NARROW) for ppr in conv_ppr]
+    if which == "walls":
+        return [(0.2, 10, "thinc", ppr, 16, WALLS) for ppr in conv_ppr]
     if which in ("conv", "all"):
         for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
             for ppr in conv_ppr:
@@ -127,8 +135,9 @@ def runs(which, conv_scheme="thinc", conv_ppr=(4, 6, 8)):
     return uniq
 
 
-def name_of(ca, k, scheme, ppr, width=16):
-    return f"ca{ca:g}_k{k:g}_{scheme}_r{ppr}" + ("" if width == 16 else f"_w{width:g}")
+def name_of(ca, k, scheme, ppr, width=16, height=16):
+    return (f"ca{ca:g}_k{k:g}_{scheme}_r{ppr}" + ("" if width == 16 else f"_w{width:g}")
+            + ("" if height == 16 else f"_h{height:g}"))
 
 
 def width_of(run):
@@ -136,9 +145,14 @@ def width_of(run):
     return run[4] if len(run) > 4 else 16
 
 
+def height_of(run):
+    """The distance between the walls (radii); 16 unless the run names another."""
+    return run[5] if len(run) > 5 else 16
+
+
 def run_one(run, threads):
     ca, k, scheme, ppr = run[:4]
-    w = width_of(run)
+    w, ht = width_of(run), height_of(run)
     name = name_of(*run)
     d = os.path.join(OUT, name)
     try:
@@ -151,7 +165,8 @@ def run_one(run, threads):
     case = os.path.join(OUT, name + ".toml")
     with open(case, "w") as f:
         # a checkpoint about every 15 minutes of one core (a session's end loses less)
-        f.write(CASE.format(n=16 * ppr, nw=round(w * ppr), w=w, ca=ca, k=k, scheme=scheme, strain=window_of(ca, k)[1], dir=d,
+        f.write(CASE.format(nw=round(w * ppr), w=w, nh=round(ht * ppr), hgt=ht, vw=ht / 2, ca=ca, k=k, scheme=scheme,
+                            strain=window_of(ca, k)[1], dir=d,
                             checkpoint=400 if ppr <= 8 else 150))
     cmd = [os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "env", f"OMP_NUM_THREADS={threads}",
            os.path.join(ROOT, "build", "softflow"), case]
@@ -180,7 +195,7 @@ def measure(run, lo=None, hi=None):
         return [r for r in rows if lo <= float(r["strain"]) < hi + 1e-9]
     series = window(csv.DictReader(open(os.path.join(d, "series.csv"))))
     parts = window(csv.DictReader(open(os.path.join(d, "particles.csv"))))
-    phi = float(series[-1]["solid_volume"]) / (16.0 * width_of(run) ** 2)
+    phi = float(series[-1]["solid_volume"]) / (height_of(run) * width_of(run) ** 2)
     q = {"T": batch_mean([float(r["taylor_mean"]) for r in parts]),
          "inclination": batch_mean([float(r["angle_mean_deg"]) for r in parts]),
          "intrinsic": batch_mean([(float(r["mu_eff"]) - 1) / phi for r in series]),
@@ -453,7 +468,8 @@ def narrow_table(csv_rows):
              f"`perf/dilute_convergence.py run --set narrow --ppr {','.join(map(str, NARROW_PPRS))} --threads 2`:"
              f" Ca = 0.2, K = 10, the box {NARROW}r wide in x and z instead of 16r (walls still 8r from the"
              " sphere, periodic images 8r apart, Phi = 0.004), a quarter of the cells, so that 12 ppr costs"
-             " about 1.5 h on two cores instead of 6. Same window [6, 14). The narrow box's own values differ"
+             " 67 minutes on two cores (3248 steps, 1.2 s each) instead of about 5.5 h (6 s a step)."
+             " Same window [6, 14). The narrow box's own values differ"
              " from the full box's by the images' interaction; what it is for is the order of the"
              " discretisation error, which is set at the particle. 'full - narrow' tests that: if it does not"
              " depend on h (chi^2 per degree of freedom near 1), the two boxes share their discretisation"
@@ -515,6 +531,37 @@ def narrow_table(csv_rows):
     return lines + [""]
 
 
+WALLS_PPRS = (4, 5, 6)
+
+
+def walls_table():
+    """What the walls add at K = 10: the runs with the walls 16r from the
+    sphere minus those with them 8r away, at the same ppr and box width."""
+    ca, k = 0.2, 10
+    pairs = [(p, record((ca, k, "thinc", p, 16, WALLS)), record((ca, k, "thinc", p))) for p in WALLS_PPRS]
+    pairs = [x for x in pairs if x[1] and x[2]]
+    if not pairs:
+        return []
+    lines = [f"## K = 10 with the walls {WALLS // 2}r from the sphere (THINC phi)", "",
+             f"`perf/dilute_convergence.py run --set walls --ppr {','.join(map(str, WALLS_PPRS))}`: the full box"
+             f" with {WALLS}r between the walls instead of 16r (16r x {WALLS}r x 16r, the walls moving at"
+             f" -+{WALLS // 2}, gamma = 1), window [6, 14). Each cell: the value with the walls"
+             f" {WALLS // 2}r away, and its difference from the walls 8r away (and that difference over the 8r"
+             " value). The theory is unbounded; if the walls' effect on the particle falls as (r / d)^3 (the"
+             " reflection of its stresslet), the walls 8r away account for 8/7 of this difference.", "",
+             "| ppr | " + " | ".join(label for _, label, _ in QUANT + PARTS) + " |", "|---|" + "---|" * len(QUANT + PARTS)]
+    for p, far, near in pairs:
+        cells = []
+        for key, _, _ in QUANT + PARTS:
+            if key not in far["q"] or key not in near["q"]:
+                cells.append("-")
+                continue
+            (a, sa), (b, sb) = far["q"][key], near["q"][key]
+            cells.append(f"{a:.4f}: {a - b:+.4f} ± {math.hypot(sa, sb):.4f} ({100 * (a / b - 1):+.1f}%)")
+        lines.append(f"| {p} | " + " | ".join(cells) + " |")
+    return lines + [""]
+
+
 def cmd_report(_):
     lines = ["# One sphere in shear against the exact dilute theory", "",
              "Produced by `perf/dilute_convergence.py run --set all` (and `run --set conv --scheme mthinc`)"
@@ -533,6 +580,7 @@ def cmd_report(_):
         lines += convergence_table(scheme, title, csv_rows)
         lines += halves_table(scheme, title)
     lines += narrow_table(csv_rows)
+    lines += walls_table()
     # speed against error
     lines += ["## Speed against error (Ca = 0.2, K = 1)", "",
               "Error of each run against the theory and against the Richardson value of the THINC series"
@@ -617,7 +665,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run")
-    r.add_argument("--set", default="all", choices=["conv", "speed", "all", "narrow"])
+    r.add_argument("--set", default="all", choices=["conv", "speed", "all", "narrow", "walls"])
     r.add_argument("--only", default=None, help="comma-separated run names")
     r.add_argument("--threads", type=int, default=1)
     r.add_argument("--scheme", default="thinc", choices=["thinc", "mthinc", "weno5"],
