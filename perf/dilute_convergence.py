@@ -428,6 +428,12 @@ def convergence_table(scheme, title, csv_rows):
     return lines + [""]
 
 
+def halves_cells(rec):
+    """One run's halves row: each quantity's change and whether it passes."""
+    return " | ".join(f"{100 * rec['halves'][key][0]:+.1f}% {'yes' if rec['halves'][key][1] else 'NO'}"
+                      for key, _, _ in QUANT)
+
+
 def halves_table(scheme, title):
     """Is each run's averaging window stationary? Its two halves compared, by
     the issue's test: they agree within 2 standard errors of their difference
@@ -443,9 +449,7 @@ def halves_table(scheme, title):
             rec = record((ca, k, scheme, p))
             if not rec:
                 continue
-            cells = [f"{100 * rec['halves'][key][0]:+.1f}% {'yes' if rec['halves'][key][1] else 'NO'}"
-                     for key, _, _ in QUANT]
-            lines.append(f"| {ca:g} | {k:g} | {p} | " + " | ".join(cells) + " |")
+            lines.append(f"| {ca:g} | {k:g} | {p} | " + halves_cells(rec) + " |")
     return lines + [""]
 
 
@@ -525,9 +529,7 @@ def narrow_table(csv_rows):
               "| ppr | " + " | ".join(label for _, label, _ in QUANT) + " |", "|---|" + "---|" * len(QUANT)]
     for p in NARROW_PPRS:
         if narrow[p]:
-            lines.append(f"| {p} | " + " | ".join(
-                f"{100 * narrow[p]['halves'][key][0]:+.1f}% {'yes' if narrow[p]['halves'][key][1] else 'NO'}"
-                for key, _, _ in QUANT) + " |")
+            lines.append(f"| {p} | " + halves_cells(narrow[p]) + " |")
     return lines + [""]
 
 
