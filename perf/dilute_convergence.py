@@ -113,7 +113,8 @@ checkpoint_every = {checkpoint}
 
 
 def runs(which, conv_scheme="thinc", conv_ppr=(4, 6, 8)):
-    """The runs of a set, each (Ca, K, scheme, ppr) or (Ca, K, scheme, ppr, width)."""
+    """The runs of a set, each (Ca, K, scheme, ppr), with the box's width and
+    the walls' distance after them where they are not 16r."""
     out = []
     if which == "narrow":
         return [(0.2, 10, "thinc", ppr, NARROW) for ppr in conv_ppr]
@@ -367,6 +368,16 @@ def extrapolate(recs, key):
     return use, f, fit, fin, math.hypot(fin - f[-1], 2 * se[-1])
 
 
+def fit_row(scheme, ca, k, key, x, theory_value):
+    """The CSV row of one quantity's extrapolation x (as extrapolate returns it)."""
+    use, f, fit, fin, err = x
+    return {"scheme": scheme, "Ca": ca, "K": k, "quantity": key, "ppr": "/".join(map(str, use)),
+            "values": "/".join(f"{v:.6g}" for v in f), "order": fit[0] if fit else None,
+            "order_lo": fit[2][0] if fit else None, "order_hi": fit[2][1] if fit else None, "richardson": fin,
+            "richardson_err": err, "richardson_lo": fit[3][0] if fit else None,
+            "richardson_hi": fit[3][1] if fit else None, "theory": theory_value}
+
+
 def convergence_table(scheme, title, csv_rows):
     """The convergence section of one phi scheme (its rows also appended to csv_rows)."""
     lines = [f"## Convergence ({title} phi)", "",
@@ -404,12 +415,7 @@ def convergence_table(scheme, title, csv_rows):
                 p = None
                 order, rich = "unclear", f"{fin:.4f} ± {err:.4f} (p = 2)"
             lines.append(row + f" | {order} | {rich} | {th[key]:.4f} | {100 * rel:+.1f}% | {verdict} |")
-            csv_rows.append({"scheme": scheme, "Ca": ca, "K": k, "quantity": key,
-                             "ppr": "/".join(map(str, use)), "values": "/".join(f"{v:.6g}" for v in f),
-                             "order": p, "order_lo": fit[2][0] if fit else None,
-                             "order_hi": fit[2][1] if fit else None, "richardson": fin, "richardson_err": err,
-                             "richardson_lo": fit[3][0] if fit else None,
-                             "richardson_hi": fit[3][1] if fit else None, "theory": th[key]})
+            csv_rows.append(fit_row(scheme, ca, k, key, x, th[key]))
         if all(key in done for key, _, _ in PARTS):
             # N1 is the difference of two parts that converge from opposite
             # sides at their own orders, so one power law fits it worse than
@@ -519,12 +525,7 @@ def narrow_table(csv_rows):
         lines.append(f"| {label} | " + " | ".join(cells) + f" | {order} | {fin:.4f} ± {err:.4f} | "
                      f"{dm:+.4f} ± {dm_se:.4f}, {chi:.1f} | {a_txt} | {b:.4f} ± {b_err:.4f} | {th[key]:.4f} | "
                      f"{verdict(a_val)} | {verdict(b)} |")
-        csv_rows.append({"scheme": f"thinc_narrow{NARROW}", "Ca": ca, "K": k, "quantity": key,
-                         "ppr": "/".join(map(str, use)), "values": "/".join(f"{v:.6g}" for v in f),
-                         "order": fit[0] if fit else None, "order_lo": fit[2][0] if fit else None,
-                         "order_hi": fit[2][1] if fit else None, "richardson": fin, "richardson_err": err,
-                         "richardson_lo": fit[3][0] if fit else None, "richardson_hi": fit[3][1] if fit else None,
-                         "theory": th[key]})
+        csv_rows.append(fit_row(f"thinc_narrow{NARROW}", ca, k, key, x, th[key]))
     lines += ["", "Halves of each narrow run's window (as above):", "",
               "| ppr | " + " | ".join(label for _, label, _ in QUANT) + " |", "|---|" + "---|" * len(QUANT)]
     for p in NARROW_PPRS:
