@@ -562,6 +562,12 @@ def walls_table():
             (a, sa), (b, sb) = far["q"][key], near["q"][key]
             cells.append(f"{a:.4f}: {a - b:+.4f} ± {math.hypot(sa, sb):.4f} ({100 * (a / b - 1):+.1f}%)")
         lines.append(f"| {p} | " + " | ".join(cells) + " |")
+    lines += ["", f"Halves of each run's window with the walls {WALLS // 2}r away (as above). [mu] is read from"
+              " the walls' shear stress, which the particle's disturbance reaches only after about"
+              f" ({WALLS // 2}r)^2 / nu = {(WALLS // 2) ** 2 / 10:g} time units here (nu = 10): where its halves"
+              " disagree, its difference above is not the walls' steady effect.", "",
+              "| ppr | " + " | ".join(label for _, label, _ in QUANT) + " |", "|---|" + "---|" * len(QUANT)]
+    lines += [f"| {p} | " + halves_cells(far) + " |" for p, far, _ in pairs]
     return lines + [""]
 
 
