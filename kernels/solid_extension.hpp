@@ -22,6 +22,14 @@
 //    cell at most get I). Only cells with phi < phi_solid are written and
 //    only cells with phi >= phi_solid read, so the kernel works in place and
 //    in any order.
+//    With particles.b_solid_phi above 1/2 an inner band pass comes first:
+//    cells with 1/2 <= phi < b_solid_phi take B from the core cells
+//    (phi >= b_solid_phi) within two cells, and keep their own where there is
+//    none (a thin sheet). Their own equation sees the interface band's
+//    mixture velocity gradient, which for a viscous particle (K > 1) is the
+//    fluid's stronger shear: B there is over-stretched, and the particle's
+//    mean B reads a more deformed particle than phi's shape (results/README.md,
+//    "B from the core").
 // 2. Unimodular projection (optional): B <- B / det(B)^(1/3) in every cell
 //    of the solid region (fluid cells far from the solid hold I: unchanged). An incompressible neo-Hookean
 //    solid has det B = 1; the discrete upper-convected transport does not keep it, and the volumetric error
@@ -34,24 +42,36 @@
 
 namespace softflow {
 
-constexpr Real phi_solid = 0.5;  // at or above: B evolves by its own equation
+constexpr Real phi_solid = 0.5;  // at or above: B evolves by its own equation (by default)
 
-// B of the cells of `region` with phi < phi_solid from the solid cells within
-// two cells; `near` from mark_near (kernels/near_mask.hpp) with reach 2 and
-// threshold phi_solid
-inline void extend_b_from_solid(const SolidFields& f, const Range3& region, const Field3& near) {
+// Which cells the extension writes and which it reads: it writes the cells
+// with target_min <= phi < source_min and reads those with phi >= source_min,
+// so it works in place and in any order. A written cell with no source within
+// two cells keeps its own B when keep_unreached, else gets I (when phi > 0).
+struct ExtensionBand {
+  Real target_min = -1, source_min = phi_solid;  // by default every cell below source_min
+  bool keep_unreached = false;
+};
+
+// B of the band's cells of `region` from the source cells within two cells;
+// `near` from mark_near (kernels/near_mask.hpp) with reach 2 and threshold
+// band.source_min
+inline void extend_b_from_solid(const SolidFields& f, const Range3& region, const Field3& near,
+                                const ExtensionBand& band = {}) {
   const SolidViews q(f);
+  const Real lo = band.target_min, hi = band.source_min;
+  const bool keep = band.keep_unreached;
   par_for(
       "solid_b_extension", region, KOKKOS_LAMBDA(int i, int j, int k) {
         const Real pc = q.phi(i, j, k);
-        if (pc >= phi_solid) return;
+        if (pc >= hi || pc < lo) return;
         Real acc[6] = {0, 0, 0, 0, 0, 0}, wsum = 0;
         if (near(i, j, k) > 0) {
           for (int c = -2; c <= 2; ++c)
             for (int b = -2; b <= 2; ++b)
               for (int a = -2; a <= 2; ++a) {
                 const Real pn = q.phi(i + a, j + b, k + c);
-                if (pn < phi_solid) continue;
+                if (pn < hi) continue;
                 const Real wgt = pn / Real(a * a + b * b + c * c);
                 for (int m = 0; m < 6; ++m) acc[m] += wgt * q.B(m, i + a, j + b, k + c);
                 wsum += wgt;
@@ -59,7 +79,7 @@ inline void extend_b_from_solid(const SolidFields& f, const Range3& region, cons
         }
         if (wsum > 0) {
           for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = acc[m] / wsum;
-        } else if (pc > 0) {
+        } else if (pc > 0 && !keep) {
           for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = (m == 0 || m == 3 || m == 5) ? 1 : 0;
         }
       });

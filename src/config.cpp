@@ -298,6 +298,10 @@ Config parse_config(const std::string& text, const std::string& name,
         throw InputError("'particles.thinc_beta' must be in [0.5, 10] (got " + std::to_string(p.thinc_beta) +
                          ")");
       r.read("b_extension", p.b_extension, false);
+      r.read("b_solid_phi", p.b_solid_phi, false);
+      if (!(p.b_solid_phi >= 0.5 && p.b_solid_phi <= 0.99))
+        throw InputError("'particles.b_solid_phi' must be in [0.5, 0.99] (got " +
+                         std::to_string(p.b_solid_phi) + ")");
       r.read("unimodular_b", p.unimodular_b, false);
       r.read("b_fallback", p.b_fallback, false);
       r.read("b_fallback_det", p.b_fallback_det, false);

@@ -48,10 +48,11 @@ struct ParticleConfig {
   // the solid phase's numerics (kernels/thinc.hpp, kernels/solid_extension.hpp)
   std::string phi_scheme = "thinc";  // phi's face values: "thinc" (sharp) or "weno5" (the reference study's)
   Real thinc_beta = 3.5;             // THINC steepness: the interface spans about 2 / beta cells
-  bool b_extension = true;           // B in 0 < phi < 0.5 cells from the solid side (else its own equation)
-  bool unimodular_b = true;          // B <- B / det(B)^(1/3) after each stage
-  bool b_fallback = true;            // first-order B update where the stage's is not admissible
-  Real b_fallback_det = 0.02;        // admissible: positive definite and |det B - 1| <= this (0: no det test)
+  bool b_extension = true;     // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)
+  Real b_solid_phi = 0.5;      // at or above: B evolves by its own equation; below: the extension's
+  bool unimodular_b = true;    // B <- B / det(B)^(1/3) after each stage
+  bool b_fallback = true;      // first-order B update where the stage's is not admissible
+  Real b_fallback_det = 0.02;  // admissible: positive definite and |det B - 1| <= this (0: no det test)
 };
 
 struct TimeConfig {

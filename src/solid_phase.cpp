@@ -31,6 +31,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   phi_scheme_.thinc_beta = cfg.particles.phi_scheme != "weno5" ? cfg.particles.thinc_beta : 0;
   phi_scheme_.multi_d = cfg.particles.phi_scheme == "mthinc";
   extend_b_ = cfg.particles.b_extension;
+  b_solid_phi_ = cfg.particles.b_solid_phi;
   if (extend_b_) b_live_ = Field3("solid_b_live", g.sx(), g.sy(), g.sz());
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
@@ -251,6 +252,11 @@ void SolidPhase::constrain_b() {
   if (extend_b_) {
     // the transport's face-flux scratch is free between stages: the mask's
     // two passes use two of its arrays
+    if (b_solid_phi_ > phi_solid) {
+      // the inner band first, from the core: the outer band then reads it
+      mark_near(q_.phi(), b_solid_phi_, 2, region_, flux_.x, flux_.y, flux_.x);
+      extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{phi_solid, b_solid_phi_, true});
+    }
     mark_near(q_.phi(), phi_solid, 2, region_, flux_.x, flux_.y, flux_.x);
     extend_b_from_solid(q_, region_, flux_.x);
   }

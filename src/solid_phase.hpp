@@ -94,7 +94,8 @@ class SolidPhase {
   std::vector<Sphere> spheres_;
   PhiScheme phi_scheme_;
   bool extend_b_, unimodular_b_;
-  BCheck b_check_;  // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
+  Real b_solid_phi_;  // B's own equation at or above, the extension's below
+  BCheck b_check_;    // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
   BStats b_stats_;
   bool track_region_ = true;
   bool b_live_cells_ = true;

@@ -83,6 +83,23 @@ TEST(Config, NonPositiveValuesAreRejected) {
   expect_error(error_of(good, {"time.cfl=1.5"}), "'time.cfl' must be at most 1");
 }
 
+TEST(Config, SolidNumericsOutOfRangeAreRejected) {
+  const std::vector<std::string> sphere = {"particles.radius=0.2", "particles.count=1",
+                                           "particles.placement=\"centre\"", "particles.shear_modulus=1.0"};
+  auto with = [&](const std::string& key) {
+    std::vector<std::string> o = sphere;
+    o.push_back(key);
+    return o;
+  };
+  EXPECT_EQ(error_of(good, with("particles.b_solid_phi=0.9")), "");
+  expect_error(error_of(good, with("particles.b_solid_phi=0.4")),
+               "'particles.b_solid_phi' must be in [0.5, 0.99] (got 0.4");
+  expect_error(error_of(good, with("particles.b_solid_phi=1")),
+               "'particles.b_solid_phi' must be in [0.5, 0.99]");
+  expect_error(error_of(good, with("particles.thinc_beta=20")),
+               "'particles.thinc_beta' must be in [0.5, 10]");
+}
+
 TEST(Config, WrongTypesAreRejected) {
   expect_error(error_of(good, {"grid.nx=1.5"}), "'grid.nx' must be an integer");
   expect_error(error_of(good, {"fluid.mu=\"thick\""}), "'fluid.mu' must be a number");

@@ -1,0 +1,112 @@
+// B's extension from the solid side (kernels/solid_extension.hpp) with the
+// inner band of particles.b_solid_phi: cells with 0.5 <= phi < b_solid_phi
+// take B from the core (phi >= b_solid_phi) and keep their own B where no
+// core cell is within two cells; the outer band (phi < 0.5) then reads them.
+// A plane interface along x, uniform in y and z, on one rank.
+#include <gtest/gtest.h>
+
+#include "../kernels/near_mask.hpp"
+#include "../kernels/solid_extension.hpp"
+
+using namespace softflow;
+
+namespace {
+
+constexpr int ng = Grid::ng;
+// phi along x (storage index i): the core, then 0.95, 0.7, 0.3, fluid, and
+// one isolated 0.7 cell far from the core
+constexpr int i_core_end = ng + 5, i_inner = ng + 6, i_outer = ng + 7, i_fluid = ng + 8, i_lone = ng + 13;
+// B of the core (det 1), and distinct, wrong values in the band cells
+constexpr Real b_core[6] = {1.5, 0.4, 0.1, 0.9, 0.05, 1.0 / 1.2};
+constexpr Real b_inner[6] = {2.0, 0.9, 0.0, 0.7, 0.0, 1.0};
+constexpr Real b_outer[6] = {3.0, 1.5, 0.0, 0.6, 0.0, 1.0};
+
+Grid plane_grid() {
+  Grid g;
+  g.nx = g.nxl = 16;
+  g.ny = 6;
+  g.nz = g.nzl = 6;
+  g.lx = g.ly = g.lz = 1;
+  g.dx = g.dy = g.dz = 1.0 / 16;
+  return g;
+}
+
+// the three B values, captured by value in the kernel (device-safe)
+struct PlaneB {
+  Real core[6], inner[6], outer[6];
+};
+
+void set_plane(const Grid& g, const SolidFields& f) {
+  const SolidViews q(f);
+  PlaneB pb;
+  for (int m = 0; m < 6; ++m) pb.core[m] = b_core[m], pb.inner[m] = b_inner[m], pb.outer[m] = b_outer[m];
+  par_for(
+      "test_extension_plane", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+        Real p = 0, b[6] = {1, 0, 0, 1, 0, 1};
+        if (i <= i_core_end) {
+          p = i == i_core_end ? 0.95 : 1;
+          for (int m = 0; m < 6; ++m) b[m] = pb.core[m];
+        }
+        if (i == i_inner || i == i_lone) {
+          p = 0.7;
+          for (int m = 0; m < 6; ++m) b[m] = pb.inner[m];
+        }
+        if (i == i_outer) {
+          p = 0.3;
+          for (int m = 0; m < 6; ++m) b[m] = pb.outer[m];
+        }
+        q.phi(i, j, k) = p;
+        for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = b[m];
+      });
+}
+
+// B at (i, mid y, mid z) on the host
+std::vector<Real> b_at(const SolidFields& f, int i) {
+  std::vector<Real> b(6);
+  for (int m = 0; m < 6; ++m) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.B(m));
+    b[m] = h(i, ng + 3, ng + 3);
+  }
+  return b;
+}
+
+void expect_b(const std::vector<Real>& b, const Real* want, const char* what) {
+  for (int m = 0; m < 6; ++m) EXPECT_NEAR(b[m], want[m], 1e-14) << what << ", component " << m;
+}
+
+void extend(const Grid& g, const SolidFields& f, const ExtensionBand& band) {
+  Field3 a("a", g.sx(), g.sy(), g.sz()), b("b", g.sx(), g.sy(), g.sz());
+  mark_near(f.phi(), band.source_min, 2, g.interior(), a, b, a);
+  extend_b_from_solid(f, g.interior(), a, band);
+}
+
+}  // namespace
+
+TEST(BExtension, InnerBandTakesTheCoresBAndKeepsItsOwnOutOfReach) {
+  const Grid g = plane_grid();
+  SolidFields f(g, "test");
+  set_plane(g, f);
+  extend(g, f, ExtensionBand{phi_solid, 0.9, true});
+  expect_b(b_at(f, i_inner), b_core, "the 0.7 cell beside the core");
+  expect_b(b_at(f, i_lone), b_inner, "the lone 0.7 cell (no core within two cells)");
+  expect_b(b_at(f, i_outer), b_outer, "the 0.3 cell (not in the inner band)");
+  expect_b(b_at(f, i_core_end), b_core, "the 0.95 cell (a source)");
+  // the outer band then reads the inner band's new B: the core's everywhere
+  extend(g, f, ExtensionBand{});
+  expect_b(b_at(f, i_outer), b_core, "the 0.3 cell after the outer pass");
+  expect_b(b_at(f, i_fluid), b_core, "the fluid cell beside the band");
+}
+
+TEST(BExtension, DefaultBandMixesTheInterfaceCellsOwnB) {
+  // what the inner band changes: with sources from phi >= 0.5 (the default),
+  // the 0.3 cell averages the core's B with the 0.7 cell's own
+  const Grid g = plane_grid();
+  SolidFields f(g, "test");
+  set_plane(g, f);
+  extend(g, f, ExtensionBand{});
+  const std::vector<Real> b = b_at(f, i_outer);
+  EXPECT_GT(std::abs(b[1] - b_core[1]), 0.05) << "B_xy of the 0.3 cell: " << b[1];
+  EXPECT_GT(b[1], b_core[1]);
+  EXPECT_LT(b[1], b_inner[1]);
+  expect_b(b_at(f, i_lone), b_inner, "the lone 0.7 cell (a source, not written)");
+}
