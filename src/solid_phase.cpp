@@ -255,7 +255,7 @@ void SolidPhase::constrain_b() {
     if (b_solid_phi_ > phi_solid) {
       // the inner band first, from the core: the outer band then reads it
       mark_near(q_.phi(), b_solid_phi_, 2, region_, flux_.x, flux_.y, flux_.x);
-      extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{phi_solid, b_solid_phi_, true});
+      extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{phi_solid, b_solid_phi_, true, true});
     }
     mark_near(q_.phi(), phi_solid, 2, region_, flux_.x, flux_.y, flux_.x);
     extend_b_from_solid(q_, region_, flux_.x);
