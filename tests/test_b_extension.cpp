@@ -132,7 +132,7 @@ double det_of(const std::vector<Real>& b) { return det_sym(b[0], b[1], b[2], b[3
 TEST(BExtension, LogEuclideanMeanKeepsDetOneWhereThePlainMeanSwells) {
   const Grid g = plane_grid();
   SolidFields f(g, "test");
-  // l = 4, +-0.6 rad: the plain mean of the two has det 1.77
+  // l = 4, +-0.6 rad: the plain mean of the two, equally weighted, has det 4.05
   set_two_orientations(g, f, 4.0, 0.6);
   extend(g, f, ExtensionBand{phi_solid, 0.9, true, false});
   const double plain = det_of(b_at(f, i_inner));
