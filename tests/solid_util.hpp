@@ -2,9 +2,25 @@
 // transport-only RK3 step.
 #pragma once
 #include "../kernels/rk3_update.hpp"
+#include "../kernels/solid_state.hpp"
 #include "test_util.hpp"
 
 namespace softflow::test {
+
+// The det-1 stretch R(theta) diag(l, 1 / l, 1) R(theta)^T, R about z, in
+// B's six-component storage (0 xx, 1 xy, 2 xz, 3 yy, 4 yz, 5 zz)
+KOKKOS_INLINE_FUNCTION void stretch_about_z(double l, double theta, double b[6]) {
+  const double c = Kokkos::cos(theta), s = Kokkos::sin(theta);
+  b[0] = l * c * c + s * s / l;
+  b[1] = (l - 1 / l) * c * s;
+  b[2] = 0;
+  b[3] = l * s * s + c * c / l;
+  b[4] = 0;
+  b[5] = 1;
+}
+
+// det of a B in six-component storage
+KOKKOS_INLINE_FUNCTION double det6(const double b[6]) { return det_sym(b[0], b[1], b[2], b[3], b[4], b[5]); }
 
 // Sets u, v, w on every storage face (ghosts included) from f(x, y, z, t) -> {u, v, w}.
 template <class F>

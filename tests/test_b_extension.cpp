@@ -7,6 +7,7 @@
 
 #include "../kernels/near_mask.hpp"
 #include "../kernels/solid_extension.hpp"
+#include "solid_util.hpp"
 
 using namespace softflow;
 
@@ -118,15 +119,14 @@ void set_two_orientations(const Grid& g, const SolidFields& f, double l, double 
   const SolidViews q(f);
   par_for(
       "test_extension_two_orientations", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const Real t = (j % 2 == 0) ? theta : -theta, c = Kokkos::cos(t), s = Kokkos::sin(t);
         const bool core = i <= i_core_end;
         q.phi(i, j, k) = core ? 1.0 : (i == i_inner ? 0.7 : 0.0);
-        const Real b[6] = {l * c * c + s * s / l, (l - 1 / l) * c * s, 0, l * s * s + c * c / l, 0, 1};
+        Real b[6];
+        test::stretch_about_z(l, (j % 2 == 0) ? theta : -theta, b);
         for (int m = 0; m < 6; ++m)
           q.field(1 + m)(i, j, k) = (core || i == i_inner) ? b[m] : (m % 3 == 0 ? 1 : 0);
       });
 }
-double det_of(const std::vector<Real>& b) { return det_sym(b[0], b[1], b[2], b[3], b[4], b[5]); }
 }  // namespace
 
 TEST(BExtension, LogEuclideanMeanKeepsDetOneWhereThePlainMeanSwells) {
@@ -135,11 +135,11 @@ TEST(BExtension, LogEuclideanMeanKeepsDetOneWhereThePlainMeanSwells) {
   // l = 4, +-0.6 rad: the plain mean of the two, equally weighted, has det 4.05
   set_two_orientations(g, f, 4.0, 0.6);
   extend(g, f, ExtensionBand{phi_solid, 0.9, true, false});
-  const double plain = det_of(b_at(f, i_inner));
+  const double plain = test::det6(b_at(f, i_inner).data());
   EXPECT_GT(plain, 1.3) << "the plain mean's det";
   set_two_orientations(g, f, 4.0, 0.6);
   extend(g, f, ExtensionBand{phi_solid, 0.9, true, true});
   const std::vector<Real> b = b_at(f, i_inner);
-  EXPECT_NEAR(det_of(b), 1.0, 1e-12) << "the log-Euclidean mean's det";
+  EXPECT_NEAR(test::det6(b.data()), 1.0, 1e-12) << "the log-Euclidean mean's det";
   EXPECT_GT(b[0], 1.0) << "still stretched along x";
 }

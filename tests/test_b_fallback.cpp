@@ -17,23 +17,9 @@
 using namespace softflow;
 using namespace softflow::test;
 
-namespace {
-// the six components of R(theta) diag(l, 1 / l, 1) R(theta)^T, R about z: det 1
-void stretched(double l, double theta, double b[6]) {
-  const double c = std::cos(theta), s = std::sin(theta);
-  b[0] = l * c * c + s * s / l;
-  b[1] = (l - 1 / l) * c * s;
-  b[2] = 0;
-  b[3] = l * s * s + c * c / l;
-  b[4] = 0;
-  b[5] = 1;
-}
-double det6(const double b[6]) { return det_sym(b[0], b[1], b[2], b[3], b[4], b[5]); }
-}  // namespace
-
 TEST(BFallback, AdmissibleMeansPositiveDefiniteAndDetNearOne) {
   double b[6];
-  stretched(20, 0.3, b);
+  stretch_about_z(20, 0.3, b);
   EXPECT_TRUE(b_admissible(b, 0.02));
   b[1] *= 1.01;  // 1% more shear: det falls to 0.36
   EXPECT_FALSE(b_admissible(b, 0.02));
@@ -86,7 +72,7 @@ TEST(BFallback, LogEuclideanMeanOfDetOneMatricesHasDetOne) {
   // mean with a differently stretched det-1 state: the plain mean swells
   // (det > 1), the log-Euclidean one keeps det 1
   double other[6], lo[6], mean_log[6], mean_plain[6], mean[6];
-  stretched(20, -M_PI / 4, other);
+  stretch_about_z(20, -M_PI / 4, other);
   sym_log(other, lo);
   for (int m = 0; m < 6; ++m) {
     mean_log[m] = 0.3 * lg[m] + 0.7 * lo[m];
@@ -104,7 +90,7 @@ TEST(BFallback, CongruenceStretchIsPositiveAndFirstOrderConsistent) {
   for (int a = 0; a < 3; ++a)
     for (int c = 0; c < 3; ++c) g.L[a][c] = L[a][c];
   double b0[6];
-  stretched(5, 0.7, b0);
+  stretch_about_z(5, 0.7, b0);
   // against the explicit source B + tau (L B + B L^T): the difference is
   // tau^2 L B L^T exactly, so it falls 4x per halving of tau
   double prev = 0;
@@ -154,14 +140,10 @@ void fill_b(const Grid& g, const SolidFields& f, double l, double theta0, double
       "test_b_fill", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
         const double x = g.xc(i);
         const double th = jump ? (x < lx / 2 ? theta0 : -theta0) : theta0 * Kokkos::sin(2 * M_PI * x / lx);
-        const double c = Kokkos::cos(th), s = Kokkos::sin(th);
+        double b[6];
+        stretch_about_z(l, th, b);
         q.phi(i, j, k) = 1;
-        q.b0(i, j, k) = l * c * c + s * s / l;
-        q.b1(i, j, k) = (l - 1 / l) * c * s;
-        q.b2(i, j, k) = 0;
-        q.b3(i, j, k) = l * s * s + c * c / l;
-        q.b4(i, j, k) = 0;
-        q.b5(i, j, k) = 1;
+        for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = b[m];
       });
 }
 // the smallest leading minor (b_xx, b_xx b_yy - b_xy^2, det) over the interior:
