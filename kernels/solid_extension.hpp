@@ -50,24 +50,51 @@ constexpr Real phi_solid = 0.5;  // at or above: B evolves by its own equation (
 // with target_min <= phi < source_min and reads those with phi >= source_min,
 // so it works in place and in any order. A written cell with no source within
 // two cells keeps its own B when keep_unreached, else gets I (when phi > 0).
-// With log_mean the mean is log-Euclidean, exp(sum w log B / sum w): its
-// det is the weighted geometric mean of the sources' (kernels/sym_matrix_log.hpp),
-// where the plain mean of det-1 matrices of different orientations has
-// det > 1 (1.2-4.7 in the inner band of the dense Ca = 0.2 and the Ca = 2 runs).
+// With logs (from log_core_b) the mean is log-Euclidean, exp(sum w log B /
+// sum w): its det is the weighted geometric mean of the sources'
+// (kernels/sym_matrix_log.hpp), where the plain mean of det-1 matrices of
+// different orientations has det > 1 (1.2-4.7 in the inner band of the dense
+// Ca = 0.2 and the Ca = 2 runs).
 struct ExtensionBand {
   Real target_min = -1, source_min = phi_solid;  // by default every cell below source_min
   bool keep_unreached = false;
-  bool log_mean = false;
+  SolidFields logs;  // empty: the plain mean
+  bool log_mean() const { return logs.phi().data() != nullptr; }
 };
+
+// The sources' log B, each taken once per stage: a core cell is read by up to
+// 124 band cells, and a matrix log per read made the inner band 40% of the
+// dense step (perf/README.md). In `logs`, q[1 + m] = log B_m and q[0] = 1
+// where it was taken: the cells of `cells` with phi >= source_min and `need`
+// (mark_near_below with reach 2 and threshold source_min: a band cell within
+// two cells); 0 elsewhere, and where B is not positive definite (a broken
+// source: no band cell reads it, and the run's checks catch it).
+inline void log_core_b(const SolidFields& f, const Range3& cells, Real source_min, const Field3& need,
+                       const SolidFields& logs) {
+  const SolidViews q(f), l(logs);
+  par_for(
+      "solid_b_core_log", cells, KOKKOS_LAMBDA(int i, int j, int k) {
+        Real taken = 0;
+        if (q.phi(i, j, k) >= source_min && need(i, j, k) > 0) {
+          Real b[6], lg[6];
+          for (int m = 0; m < 6; ++m) b[m] = q.field(1 + m)(i, j, k);
+          if (sym_log_positive(b, lg)) {
+            for (int m = 0; m < 6; ++m) l.field(1 + m)(i, j, k) = lg[m];
+            taken = 1;
+          }
+        }
+        l.phi(i, j, k) = taken;
+      });
+}
 
 // B of the band's cells of `region` from the source cells within two cells;
 // `near` from mark_near (kernels/near_mask.hpp) with reach 2 and threshold
-// band.source_min
+// band.source_min; with band.logs, log_core_b's over `region` grown by two
 inline void extend_b_from_solid(const SolidFields& f, const Range3& region, const Field3& near,
                                 const ExtensionBand& band = {}) {
-  const SolidViews q(f);
+  const SolidViews q(f), l(band.log_mean() ? band.logs : f);
   const Real lo = band.target_min, hi = band.source_min;
-  const bool keep = band.keep_unreached, log_mean = band.log_mean;
+  const bool keep = band.keep_unreached, log_mean = band.log_mean();
   par_for(
       "solid_b_extension", region, KOKKOS_LAMBDA(int i, int j, int k) {
         const Real pc = q.phi(i, j, k);
@@ -79,13 +106,10 @@ inline void extend_b_from_solid(const SolidFields& f, const Range3& region, cons
               for (int a = -2; a <= 2; ++a) {
                 const Real pn = q.phi(i + a, j + b, k + c);
                 if (pn < hi) continue;
-                Real bs[6];
-                for (int m = 0; m < 6; ++m) bs[m] = q.B(m, i + a, j + b, k + c);
-                if (log_mean) {
-                  Real lg[6];
-                  if (!sym_log_positive(bs, lg)) continue;  // a broken source: left to the run's checks
-                  for (int m = 0; m < 6; ++m) bs[m] = lg[m];
-                }
+                // log_mean: l holds the logs; a broken source has none
+                if (log_mean && l.phi(i + a, j + b, k + c) == 0) continue;
+                Real bs[6];  // its B, or B's log
+                for (int m = 0; m < 6; ++m) bs[m] = l.B(m, i + a, j + b, k + c);
                 const Real wgt = pn / Real(a * a + b * b + c * c);
                 for (int m = 0; m < 6; ++m) acc[m] += wgt * bs[m];
                 wsum += wgt;

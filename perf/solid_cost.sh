@@ -5,7 +5,9 @@
 # fallback, no det B projection) and with the default ones (THINC phi, B
 # fallback, B extended from the solid side, det B projected), alternated ROUNDS times in one run so both
 # see the same machine load; then the ratio of the median step times.
-# VARIANTS="old new mthinc" adds the default numerics with MTHINC for phi.
+# VARIANTS="old new mthinc" adds the default numerics with MTHINC for phi;
+# new09 and mthinc09 are new and mthinc with particles.b_solid_phi = 0.9
+# (B of the 0.5 <= phi < 0.9 cells from the core).
 #   perf/solid_cost.sh            # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
 # Environment: ROUNDS (default 3), VARIANTS (default "old new"),
 # OMP_NUM_THREADS (default all cores), BIN.
@@ -23,7 +25,8 @@ for r in $(seq 1 "$rounds"); do
   for v in $variants; do
     extra=()
     [ $v = old ] && extra=("${old[@]}")
-    [ $v = mthinc ] && extra=(--set particles.phi_scheme=mthinc)
+    case $v in mthinc | mthinc09) extra=(--set particles.phi_scheme=mthinc) ;; esac
+    case $v in new09 | mthinc09) extra+=(--set particles.b_solid_phi=0.9) ;; esac
     scripts/toolchain.sh run "$bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       "${extra[@]}" --warmup 3 --steps 5 --reps 5 --json "$out/${v}_$r.json" >/dev/null
     echo "solid_cost: round $r $v done" >&2
@@ -37,7 +40,8 @@ def step(v, r):
 def kern(v, r):
     k = json.load(open(f"{out}/{v}_{r}.json"))["kernels"]
     return {n: d["seconds_per_step"]["median"] for n, d in k.items() if "solid" in n}
-names = {"old": "old", "new": "new (THINC)", "mthinc": "new with MTHINC"}
+names = {"old": "old", "new": "new (THINC)", "mthinc": "new with MTHINC", "new09": "new, b_solid_phi 0.9",
+         "mthinc09": "MTHINC, b_solid_phi 0.9"}
 steps = {v: [step(v, r) for r in range(1, rounds + 1)] for v in variants}
 others = [v for v in variants if v != "old"]
 lines = ["# Cost of the solid phase's numerics (perf/solid_cost.sh)", "",

@@ -33,6 +33,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   extend_b_ = cfg.particles.b_extension;
   b_solid_phi_ = cfg.particles.b_solid_phi;
   if (extend_b_) b_live_ = Field3("solid_b_live", g.sx(), g.sy(), g.sz());
+  if (extend_b_ && b_solid_phi_ > phi_solid) core_logs_ = SolidFields(g, "solid_core_log");
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
   b_check_.on = cfg.particles.b_fallback;
@@ -253,9 +254,14 @@ void SolidPhase::constrain_b() {
     // the transport's face-flux scratch is free between stages: the mask's
     // two passes use two of its arrays
     if (b_solid_phi_ > phi_solid) {
-      // the inner band first, from the core: the outer band then reads it
+      // the inner band first, from the core: the outer band then reads it.
+      // The log of each core cell within two of the band, once (the third
+      // scratch array holds the mask), then the band's mean of them
+      const Range3 sources = grown(region_, 2, g_.all());
+      mark_near_below(q_.phi(), b_solid_phi_, 2, sources, flux_.z, flux_.y, flux_.z);
+      log_core_b(q_, sources, b_solid_phi_, flux_.z, core_logs_);
       mark_near(q_.phi(), b_solid_phi_, 2, region_, flux_.x, flux_.y, flux_.x);
-      extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{phi_solid, b_solid_phi_, true, true});
+      extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{phi_solid, b_solid_phi_, true, core_logs_});
     }
     mark_near(q_.phi(), phi_solid, 2, region_, flux_.x, flux_.y, flux_.x);
     extend_b_from_solid(q_, region_, flux_.x);

@@ -5,6 +5,8 @@
 // A plane interface along x, uniform in y and z, on one rank.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "../kernels/near_mask.hpp"
 #include "../kernels/solid_extension.hpp"
 #include "solid_util.hpp"
@@ -75,8 +77,16 @@ void expect_b(const std::vector<Real>& b, const Real* want, const char* what) {
   for (int m = 0; m < 6; ++m) EXPECT_NEAR(b[m], want[m], 1e-14) << what << ", component " << m;
 }
 
-void extend(const Grid& g, const SolidFields& f, const ExtensionBand& band) {
+// one extension pass over the interior, as SolidPhase::constrain_b runs it;
+// with log_mean the sources' logs first
+void extend(const Grid& g, const SolidFields& f, ExtensionBand band, bool log_mean = false) {
   Field3 a("a", g.sx(), g.sy(), g.sz()), b("b", g.sx(), g.sy(), g.sz());
+  if (log_mean) {
+    band.logs = SolidFields(g, "logs");
+    const Range3 sources = grown(g.interior(), 2, g.all());
+    mark_near_below(f.phi(), band.source_min, 2, sources, a, b, a);
+    log_core_b(f, sources, band.source_min, a, band.logs);
+  }
   mark_near(f.phi(), band.source_min, 2, g.interior(), a, b, a);
   extend_b_from_solid(f, g.interior(), a, band);
 }
@@ -134,12 +144,53 @@ TEST(BExtension, LogEuclideanMeanKeepsDetOneWhereThePlainMeanSwells) {
   SolidFields f(g, "test");
   // l = 4, +-0.6 rad: the plain mean of the two, equally weighted, has det 4.05
   set_two_orientations(g, f, 4.0, 0.6);
-  extend(g, f, ExtensionBand{phi_solid, 0.9, true, false});
+  extend(g, f, ExtensionBand{phi_solid, 0.9, true});
   const double plain = test::det6(b_at(f, i_inner).data());
   EXPECT_GT(plain, 1.3) << "the plain mean's det";
   set_two_orientations(g, f, 4.0, 0.6);
-  extend(g, f, ExtensionBand{phi_solid, 0.9, true, true});
+  extend(g, f, ExtensionBand{phi_solid, 0.9, true}, true);
   const std::vector<Real> b = b_at(f, i_inner);
   EXPECT_NEAR(test::det6(b.data()), 1.0, 1e-12) << "the log-Euclidean mean's det";
   EXPECT_GT(b[0], 1.0) << "still stretched along x";
+}
+
+TEST(BExtension, NearBelowMarksTheBlockOfALowCellAtTheStoragesEdge) {
+  // one cell below the threshold in a storage corner (a ghost cell): the
+  // block's reads are clamped there, so exactly the cells within two of it
+  // are marked, and the passes read nothing outside the storage
+  const Grid g = plane_grid();
+  Field3 phi("phi", g.sx(), g.sy(), g.sz()), a("a", g.sx(), g.sy(), g.sz()), b("b", g.sx(), g.sy(), g.sz());
+  const int ic = 0, jc = 2, kc = g.sz() - 1;
+  par_for(
+      "test_near_below_phi", g.all(),
+      KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = (i == ic && j == jc && k == kc) ? 0.3 : 0.95; });
+  mark_near_below(phi, 0.9, 2, g.all(), a, b, a);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  int wrong = 0, marked = 0;
+  for (int k = 0; k < g.sz(); ++k)
+    for (int j = 0; j < g.sy(); ++j)
+      for (int i = 0; i < g.sx(); ++i) {
+        const bool want = std::abs(i - ic) <= 2 && std::abs(j - jc) <= 2 && std::abs(k - kc) <= 2;
+        wrong += (h(i, j, k) == 1) != want;
+        marked += h(i, j, k) == 1;
+      }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(marked, 3 * 5 * 3);  // the block cut by the storage's edges
+}
+
+TEST(BExtension, LogMeanSkipsASourceThatIsNotPositiveDefinite) {
+  // one core cell beside the 0.7 cell holds a B with a negative eigenvalue:
+  // its log is not taken, and the band's mean is that of the other sources
+  const Grid g = plane_grid();
+  SolidFields f(g, "test");
+  set_plane(g, f);
+  const SolidViews q(f);
+  par_for(
+      "test_extension_broken_source", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+        if (i == i_core_end && j == ng + 3 && k == ng + 3) q.b1(i, j, k) = 5;  // B_xy^2 > B_xx B_yy
+      });
+  extend(g, f, ExtensionBand{phi_solid, 0.9, true}, true);
+  const std::vector<Real> b = b_at(f, i_inner);
+  // every other source holds the core's B: its log mean is the core's B
+  expect_b(b, b_core, "the 0.7 cell beside the broken source");
 }
