@@ -135,7 +135,7 @@ in_root() {
       OMP_PROC_BIND=false OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" \
       SOFTFLOW_BUILD="${SOFTFLOW_BUILD:-build}" SOFTFLOW_REPO="$SOFTFLOW_REPO_IN" \
       SOFTFLOW_SHARED_DIRS="$SOFTFLOW_SHARED_DIRS" SOFTFLOW_EXE="${SOFTFLOW_EXE:-}" \
-      /bin/bash -c '"'"'cd "$0" && "$@"'"'"' "$here" "$@"' \
+      SOFTFLOW_IN_ROOT=1 /bin/bash -c '"'"'cd "$0" && "$@"'"'"' "$here" "$@"' \
     bash "$r" "$REPO" "$here" "$@"
 }
 
@@ -187,6 +187,17 @@ setup_root() {
   touch "$stamp"
   log "root ready"
 }
+
+# Called from inside the root (a script that runs the toolchain's python,
+# e.g. `scripts/toolchain.sh run python3 scripts/run-set.py`, calls this
+# script again): the root is there already, and a command runs as it is
+if [ "${SOFTFLOW_IN_ROOT:-}" = 1 ]; then
+  case "${1:-}" in
+    setup) exit 0 ;;
+    run) shift; exec "$@" ;;
+    check) exit 0 ;;
+  esac
+fi
 
 case "${1:-}" in
   setup) setup_root ;;

@@ -9,6 +9,7 @@
 # 2. Paths the root cannot see stop the run, naming them, before it starts.
 # 3. Two clones run cases at once, overlapping in time, each writing through
 #    its own /src: each output is complete and in its own clone.
+# 4. toolchain.sh called from inside the root (setup and run) works.
 set -uo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd -P)
 exe=${1:-$repo/build/softflow}
@@ -95,6 +96,12 @@ for c in a b; do
     "clone $c: output complete in its own clone (series to strain $end, $((end + 1)) snapshots, checkpoint, summary, no .tmp)"
 done
 check '[ ! -e "$work/elsewhere/out" ] && [ ! -e "$repo/out" ]' "nothing written elsewhere"
+
+echo "== 4. the toolchain called again from inside its root (${SECONDS} s)"
+# a script run with the root's python (scripts/run-set.py does) calls
+# toolchain.sh setup and run again: setup is a no-op there, run runs as is
+nested=$("$repo/scripts/toolchain.sh" run bash -c 'scripts/toolchain.sh setup && scripts/toolchain.sh run echo inside' 2>&1)
+check '[ "$(echo "$nested" | tail -n 1)" = inside ]' "toolchain.sh setup and run from inside the root"
 
 echo "$fails failure(s)"
 [ $fails = 0 ]
