@@ -45,8 +45,8 @@ inline void mark_near(const Field3& phi, Real threshold, int reach, const Range3
 // out(i, j, k) = 1 on the cells of `cells` whose block holds a phi below
 // threshold, else 0; pass_x and pass_y are scratch (out may be pass_x).
 // `cells` may reach the storage's edge: a block's reads are clamped to the
-// storage (an edge cell read twice: never a cell missed, at most one more
-// cell marked).
+// storage (a clamped read lands on a cell of the block already read, so the
+// marks are exact).
 inline void mark_near_below(const Field3& phi, Real threshold, int reach, const Range3& cells,
                             const Field3& pass_x, const Field3& pass_y, const Field3& out) {
   const int r = reach;

@@ -195,7 +195,17 @@ if [ "${SOFTFLOW_IN_ROOT:-}" = 1 ]; then
   case "${1:-}" in
     setup) exit 0 ;;
     run) shift; exec "$@" ;;
-    check) exit 0 ;;
+    check)
+      # a path is reachable when it lies in one of the shared folders
+      shift
+      for p in "$@"; do
+        abs=$(realpath -m -- "$p") ok=no
+        IFS=: read -ra dirs <<<"${SOFTFLOW_SHARED_DIRS:-}"
+        for d in "${dirs[@]}"; do case "$abs/" in "$d"/*) ok=yes ;; esac; done
+        [ $ok = yes ] || { echo "softflow: error: '$p' ($abs) is not in a shared folder (${SOFTFLOW_SHARED_DIRS:-})" >&2; exit 2; }
+      done
+      exit 0
+      ;;
   esac
 fi
 

@@ -100,7 +100,7 @@ check '[ ! -e "$work/elsewhere/out" ] && [ ! -e "$repo/out" ]' "nothing written 
 echo "== 4. the toolchain called again from inside its root (${SECONDS} s)"
 # a script run with the root's python (scripts/run-set.py does) calls
 # toolchain.sh setup and run again: setup is a no-op there, run runs as is
-nested=$("$repo/scripts/toolchain.sh" run bash -c 'scripts/toolchain.sh setup && scripts/toolchain.sh run echo inside' 2>&1)
+nested=$(cd "$repo" && scripts/toolchain.sh run bash -c 'scripts/toolchain.sh setup && scripts/toolchain.sh run echo inside' 2>&1)
 check '[ "$(echo "$nested" | tail -n 1)" = inside ]' "toolchain.sh setup and run from inside the root"
 
 echo "$fails failure(s)"
