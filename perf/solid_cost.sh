@@ -47,7 +47,8 @@ others = [v for v in variants if v != "old"]
 lines = ["# Cost of the solid phase's numerics (perf/solid_cost.sh)", "",
          "Dense scene (cases/phi011_ca02.toml, 64 x 40 x 64, Phi = 0.11, Ca = 0.2, implicit), "
          "the old numerics (WENO5 phi, no B fallback, no B extension, no projection) and the default ones "
-         "(THINC phi" + (", and the same with MTHINC phi" if "mthinc" in variants else "") + "), "
+         "(THINC phi" + (", and the same with MTHINC phi" if "mthinc" in variants else "")
+         + ("; 0.9: with particles.b_solid_phi = 0.9" if any(v.endswith("09") for v in variants) else "") + "), "
          f"alternated {rounds} times; median step seconds of each harness run.", "",
          "| round | " + " | ".join(f"{names[v]} step (ms)" for v in variants) + " | "
          + " | ".join(f"{names[v]} / old" for v in others) + " |",
