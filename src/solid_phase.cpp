@@ -251,8 +251,8 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
 
 void SolidPhase::constrain_b() {
   if (extend_b_) {
-    // the transport's face-flux scratch is free between stages: the mask's
-    // two passes use two of its arrays
+    // the transport's face-flux scratch is free between stages: the masks'
+    // passes use its arrays
     if (b_solid_phi_ > phi_solid) {
       // the inner band first, from the core: the outer band then reads it.
       // The log of each core cell within two of the band, once (the third
