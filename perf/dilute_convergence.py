@@ -3,7 +3,7 @@
 speed against error.
 
   perf/dilute_convergence.py run [--set conv|speed|all|narrow|walls] [--only NAME,...] [--threads N]
-                                 [--scheme thinc|mthinc] [--ppr 4,6,8]
+                                 [--scheme thinc|mthinc|thinc09|mthinc09] [--ppr 4,6,8]
   perf/dilute_convergence.py report     # -> perf/results/dilute_convergence.{md,csv},
                                         #    dilute_speed_error.{csv,png}
 
@@ -24,9 +24,13 @@ also compares each window's halves (the issue's stationarity test).
   from a least-squares fit over every resolution from 4 ppr, for T, the
   inclination, [mu] and N1 / Phi, and for N1's elastic and viscous parts
   where the runs record them. The report has one table per scheme run.
-- narrow: Ca = 0.2, K = 10, THINC, in a box 8r wide in x and z (walls still
-  8r away) at --ppr (4 to 12): the order of K = 10's N1 where the full box's
-  12 ppr does not fit in a session (narrow_table says how it is used).
+- thinc09, mthinc09 (--scheme): the same numerics with
+  particles.b_solid_phi = 0.9 (B of the 0.5 <= phi < 0.9 band from the
+  particle's core, round 12); runs named ..._thinc09_... and ..._mthinc09_....
+- narrow: Ca = 0.2, K = 10, THINC (or --scheme, --cases), in a box 8r wide
+  in x and z (walls still 8r away) at --ppr (4 to 12): the order of the
+  discretisation error where the full box's finer runs do not fit in a
+  session (narrow_table says how it is used).
 - walls: the same K = 10 case in the full box with the walls 16r from the
   sphere (32r apart), at --ppr (4 to 6): what the walls add to it.
 - speed: Ca = 0.2, K = 1 at 3 to 8 ppr with each phi scheme (THINC, MTHINC,
@@ -77,6 +81,12 @@ def window_of(ca, k):
     of about 8 strain units, which [6, 14) holds once."""
     return (6.0, 14.0) if k >= 10 else (FROM, STRAIN)
 
+# The numerics of each --scheme: particles.phi_scheme and b_solid_phi
+SCHEMES = {"thinc": ("thinc", 0.5), "mthinc": ("mthinc", 0.5), "weno5": ("weno5", 0.5),
+           "thinc09": ("thinc", 0.9), "mthinc09": ("mthinc", 0.9)}
+TITLES = {"thinc": "THINC", "mthinc": "MTHINC", "weno5": "WENO5", "thinc09": "THINC, b_solid_phi 0.9",
+          "mthinc09": "MTHINC, b_solid_phi 0.9"}
+
 CASE = """[grid]
 nx = {nw}
 ny = {nh}
@@ -96,6 +106,7 @@ placement = "centre"
 capillary = {ca}
 viscosity_ratio = {k}
 phi_scheme = "{scheme}"
+b_solid_phi = {b_solid_phi}
 [initial]
 type = "couette"
 [time]
@@ -112,16 +123,17 @@ checkpoint_every = {checkpoint}
 """
 
 
-def runs(which, conv_scheme="thinc", conv_ppr=(4, 6, 8)):
+def runs(which, conv_scheme="thinc", conv_ppr=(4, 6, 8), cases=None):
     """The runs of a set, each (Ca, K, scheme, ppr), with the box's width and
-    the walls' distance after them where they are not 16r."""
+    the walls' distance after them where they are not 16r; `cases` ((Ca, K),
+    ...) replaces the conv and narrow sets' cases."""
     out = []
     if which == "narrow":
-        return [(0.2, 10, "thinc", ppr, NARROW) for ppr in conv_ppr]
+        return [(ca, k, conv_scheme, ppr, NARROW) for ca, k in (cases or ((0.2, 10),)) for ppr in conv_ppr]
     if which == "walls":
         return [(0.2, 10, "thinc", ppr, 16, WALLS) for ppr in conv_ppr]
     if which in ("conv", "all"):
-        for ca, k in ((0.1, 1), (0.2, 1), (0.4, 1), (0.2, 10)):
+        for ca, k in cases or CONV_CASES:
             for ppr in conv_ppr:
                 out.append((ca, k, conv_scheme, ppr))
     if which in ("speed", "all"):
@@ -166,8 +178,9 @@ def run_one(run, threads):
     case = os.path.join(OUT, name + ".toml")
     with open(case, "w") as f:
         # a checkpoint about every 15 minutes of one core (a session's end loses less)
-        f.write(CASE.format(nw=round(w * ppr), w=w, nh=round(ht * ppr), hgt=ht, vw=ht / 2, ca=ca, k=k, scheme=scheme,
-                            strain=window_of(ca, k)[1], dir=d,
+        phi_scheme, b_solid_phi = SCHEMES[scheme]
+        f.write(CASE.format(nw=round(w * ppr), w=w, nh=round(ht * ppr), hgt=ht, vw=ht / 2, ca=ca, k=k,
+                            scheme=phi_scheme, b_solid_phi=b_solid_phi, strain=window_of(ca, k)[1], dir=d,
                             checkpoint=400 if ppr <= 8 else 150))
     cmd = [os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "env", f"OMP_NUM_THREADS={threads}",
            os.path.join(ROOT, "build", "softflow"), case]
@@ -233,16 +246,37 @@ def record(run):
     for key in m["q"]:
         (m1, s1), (m2, s2) = a["q"][key], b["q"][key]
         tol = max(2 * math.hypot(s1, s2), 0.01 * abs(m1))
-        halves[key] = [m2 / m1 - 1, abs(m2 - m1) <= tol]
+        # at K = 1 N1's viscous part is 0 in both halves (a uniform viscosity)
+        rel = m2 / m1 - 1 if m1 else (0.0 if m2 == 0 else math.inf)
+        halves[key] = [rel, abs(m2 - m1) <= tol]
     rec = {"run": name_of(*run), "window": [lo, hi], "q": m["q"], "halves": halves,
            "wall_per_strain": m["wall_per_strain"], "steps": m["steps"], "threads": m["threads"],
            "version": m["version"], "source": "output/dilute/" + name_of(*run)}
+    try:  # the committed record, where this machine's sums agree with it to round-off
+        kept = json.load(open(path))
+        if same_record(kept, rec):
+            return kept
+    except (OSError, ValueError):
+        pass
     os.makedirs(RECORDS, exist_ok=True)
     with open(path + ".tmp", "w") as fh:
         json.dump(rec, fh, indent=1)
         fh.write("\n")
     os.replace(path + ".tmp", path)
     return rec
+
+
+def same_record(a, b, rel=1e-12):
+    """Two records of one run equal but for round-off in the last digits (the
+    sums' order differs between Python builds): then the committed one is
+    kept, and a report rewrites no record it has not changed."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(same_record(a[x], b[x], rel) for x in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(same_record(x, y, rel) for x, y in zip(a, b))
+    if isinstance(a, float) or isinstance(b, float):
+        return isinstance(a, (int, float)) and isinstance(b, (int, float)) and abs(a - b) <= rel * max(abs(a), abs(b), 1e-300)
+    return a == b
 
 
 def theory(ca, k):
@@ -393,7 +427,9 @@ def convergence_table(scheme, title, csv_rows):
     for ca, k in CONV_CASES:
         recs = {p: record((ca, k, scheme, p)) for p in PPRS}
         th = theory(ca, k)
-        quants = QUANT + (PARTS if any(r and PARTS[0][0] in r["q"] for r in recs.values()) else [])
+        # N1's parts where the particle's viscosity differs from the fluid's
+        # (at K = 1 the viscous part is 0 and N1 is all elastic)
+        quants = QUANT + (PARTS if k != 1 and any(r and PARTS[0][0] in r["q"] for r in recs.values()) else [])
         done = {}
         for key, label, tol in quants:
             cells = [f"{recs[p]['q'][key][0]:.4f} ± {recs[p]['q'][key][1]:.4f}" if recs[p] and key in recs[p]["q"]
@@ -462,24 +498,26 @@ def halves_table(scheme, title):
 NARROW_PPRS = (4, 5, 6, 7, 8, 12)
 
 
-def narrow_table(csv_rows):
-    """K = 10 in the narrow box up to 12 ppr: the order there, and the full
-    box's Richardson value two ways, both resting on the discretisation error
-    being the same in the two boxes (which the runs at 4-8 ppr in both test):
-    (a) the full box's runs fitted at the narrow box's order; (b) the narrow
-    box's Richardson value plus the mean difference full - narrow."""
-    ca, k = 0.2, 10
-    narrow = {p: record((ca, k, "thinc", p, NARROW)) for p in NARROW_PPRS}
+def narrow_table(csv_rows, scheme="thinc", ca=0.2, k=10):
+    """One case in the narrow box (K = 10 with THINC up to 12 ppr): the order
+    there, and the full box's Richardson value two ways, both resting on the
+    discretisation error being the same in the two boxes (which the runs at
+    the resolutions run in both test): (a) the full box's runs fitted at the
+    narrow box's order; (b) the narrow box's Richardson value plus the mean
+    difference full - narrow."""
+    narrow = {p: record((ca, k, scheme, p, NARROW)) for p in NARROW_PPRS}
     if sum(1 for r in narrow.values() if r) < 3:
         return []
-    full = {p: record((ca, k, "thinc", p)) for p in NARROW_PPRS}
+    full = {p: record((ca, k, scheme, p)) for p in NARROW_PPRS}
     th = theory(ca, k)
-    lines = [f"## K = 10 to 12 ppr in a narrower box (THINC phi, {NARROW}r x 16r x {NARROW}r)", "",
-             f"`perf/dilute_convergence.py run --set narrow --ppr {','.join(map(str, NARROW_PPRS))} --threads 2`:"
-             f" Ca = 0.2, K = 10, the box {NARROW}r wide in x and z instead of 16r (walls still 8r from the"
-             " sphere, periodic images 8r apart, Phi = 0.004), a quarter of the cells, so that 12 ppr costs"
-             " 67 minutes on two cores (3248 steps, 1.2 s each) instead of about 5.5 h (6 s a step)."
-             " Same window [6, 14). The narrow box's own values differ"
+    ran = [p for p in NARROW_PPRS if narrow[p]]
+    lines = [f"## Ca = {ca:g}, K = {k:g} to {ran[-1]} ppr in a narrower box ({TITLES[scheme]} phi,"
+             f" {NARROW}r x 16r x {NARROW}r)", "",
+             f"`perf/dilute_convergence.py run --set narrow --scheme {scheme} --cases {ca:g}:{k:g} --ppr"
+             f" {','.join(map(str, ran))}`: the box {NARROW}r wide in x and z instead of 16r (walls still 8r from the"
+             " sphere, periodic images 8r apart, Phi = 0.004), a quarter of the cells (K = 10 at 12 ppr:"
+             " 67 minutes on two cores, 3248 steps of 1.2 s, instead of about 5.5 h at 6 s a step)."
+             f" Same window [{window_of(ca, k)[0]:g}, {window_of(ca, k)[1]:g}). The narrow box's own values differ"
              " from the full box's by the images' interaction; what it is for is the order of the"
              " discretisation error, which is set at the particle. 'full - narrow' tests that: if it does not"
              " depend on h (chi^2 per degree of freedom near 1), the two boxes share their discretisation"
@@ -490,7 +528,7 @@ def narrow_table(csv_rows):
              " (narrow box) | full - narrow: mean, chi^2/dof | full box (a): at the narrow order | full box"
              " (b): narrow + difference | theory | (a) vs theory | (b) vs theory |",
              "|" + "---|" * (9 + len(NARROW_PPRS))]
-    for key, label, tol in QUANT + PARTS:
+    for key, label, tol in QUANT + (PARTS if k != 1 else []):
         if not all(r is None or key in r["q"] for r in narrow.values()):
             continue
         cells = [f"{narrow[p]['q'][key][0]:.4f} ± {narrow[p]['q'][key][1]:.4f}" if narrow[p] else "-"
@@ -525,7 +563,7 @@ def narrow_table(csv_rows):
         lines.append(f"| {label} | " + " | ".join(cells) + f" | {order} | {fin:.4f} ± {err:.4f} | "
                      f"{dm:+.4f} ± {dm_se:.4f}, {chi:.1f} | {a_txt} | {b:.4f} ± {b_err:.4f} | {th[key]:.4f} | "
                      f"{verdict(a_val)} | {verdict(b)} |")
-        csv_rows.append(fit_row(f"thinc_narrow{NARROW}", ca, k, key, x, th[key]))
+        csv_rows.append(fit_row(f"{scheme}_narrow{NARROW}", ca, k, key, x, th[key]))
     lines += ["", "Halves of each narrow run's window (as above):", "",
               "| ppr | " + " | ".join(label for _, label, _ in QUANT) + " |", "|---|" + "---|" * len(QUANT)]
     for p in NARROW_PPRS:
@@ -583,12 +621,14 @@ def cmd_report(_):
              " from that record).", "",
              ]
     csv_rows = []
-    for scheme, title in (("thinc", "THINC"), ("mthinc", "MTHINC")):
+    for scheme in ("thinc", "mthinc", "thinc09", "mthinc09"):
         if not any(record((ca, k, scheme, p)) for ca, k in CONV_CASES for p in PPRS):
             continue
-        lines += convergence_table(scheme, title, csv_rows)
-        lines += halves_table(scheme, title)
-    lines += narrow_table(csv_rows)
+        lines += convergence_table(scheme, TITLES[scheme], csv_rows)
+        lines += halves_table(scheme, TITLES[scheme])
+    for scheme in ("thinc", "mthinc", "thinc09", "mthinc09"):
+        for ca, k in CONV_CASES:
+            lines += narrow_table(csv_rows, scheme, ca, k)
     lines += walls_table()
     # speed against error
     lines += ["## Speed against error (Ca = 0.2, K = 1)", "",
@@ -677,8 +717,10 @@ def main():
     r.add_argument("--set", default="all", choices=["conv", "speed", "all", "narrow", "walls"])
     r.add_argument("--only", default=None, help="comma-separated run names")
     r.add_argument("--threads", type=int, default=1)
-    r.add_argument("--scheme", default="thinc", choices=["thinc", "mthinc", "weno5"],
-                   help="phi scheme of the conv set")
+    r.add_argument("--scheme", default="thinc", choices=list(SCHEMES),
+                   help="numerics of the conv and narrow sets (SCHEMES)")
+    r.add_argument("--cases", default=None,
+                   help="Ca:K pairs of the conv and narrow sets, comma-separated (e.g. 0.2:1,0.2:10)")
     r.add_argument("--ppr", default="4,6,8", help="points per radius of the conv set, comma-separated")
     sub.add_parser("report")
     a = ap.parse_args()
@@ -692,7 +734,16 @@ def main():
         ap.error(f"--ppr {a.ppr!r}: give whole numbers of points per radius, comma-separated")
     if any(p < 2 for p in ppr):
         ap.error(f"--ppr {a.ppr!r}: at least 2 points per radius")
-    for run in runs(a.set, a.scheme, ppr):
+    cases = None
+    if a.cases:
+        try:
+            cases = tuple((float(c.split(":")[0]), float(c.split(":")[1])) for c in a.cases.split(","))
+        except (ValueError, IndexError):
+            ap.error(f"--cases {a.cases!r}: give Ca:K pairs, comma-separated, e.g. 0.2:1,0.2:10")
+        for ca, k in cases:
+            if theory(ca, k) is None:
+                ap.error(f"--cases: Ca = {ca:g}, K = {k:g} is not in {THEORY}")
+    for run in runs(a.set, a.scheme, ppr, cases):
         if only and name_of(*run) not in only:
             continue
         run_one(run, a.threads)

@@ -25,6 +25,14 @@ check, per run:
   - the solid volume stays within 1e-12 relative of its first value.
   Reported beside (series written since it has the column): the largest
   share of the solid volume in cells with phi < 0.1, solid shed as wisps.
+  Also beside, not a condition of the issue's: the linear trend over
+  [w0, w2) of mu, T, T of B and phi's three axes. Two windows can agree
+  while a quantity climbs slowly (their means differ by half its drift over
+  the span): a straight line through the span's 10 batch means gives the
+  drift per 40 strain units and its standard error; "drifts" where it is
+  beyond 2 standard errors (a trend the noise does not explain), whatever
+  its size. A run that passes with a quantity that drifts is not shown
+  stationary beyond w2 (results/README.md, round 13).
 figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
 old scheme's run of the same case) beside it.
 
@@ -58,6 +66,31 @@ def batch_mean(v, batches=10):
     bm = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
     mb = sum(bm) / batches
     return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
+
+
+def trend(x, v, batches=10):
+    """Least-squares slope of v against x through the `batches` batch means
+    (each of an equal run of rows, as batch_mean's), and its standard error
+    from their scatter about the line (batches - 2 degrees of freedom): the
+    batches are long enough to be nearly independent where batch_mean's
+    standard error is trusted. (slope, se), or (nan, nan) with too few rows."""
+    n = len(v) // batches
+    if n < 2:
+        return math.nan, math.nan
+    skip = len(v) - n * batches
+    xs = [sum(x[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
+    ys = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
+    mx, my = sum(xs) / batches, sum(ys) / batches
+    sxx = sum((a - mx) ** 2 for a in xs)
+    slope = sum((a - mx) * (b - my) for a, b in zip(xs, ys)) / sxx
+    res = sum((b - my - slope * (a - mx)) ** 2 for a, b in zip(xs, ys))
+    return slope, math.sqrt(res / (batches - 2) / sxx)
+
+
+# the quantities whose trend check reports: (particles.csv column, label)
+TREND_SHAPE = (("taylor_mean", "T"), ("taylor_b_mean", "T of B"), ("a_mean", "a"), ("b_mean", "b"),
+               ("c_mean", "c"))
+TREND_SPAN = 40  # strain units the drift is given per (the issue's [10, 50))
 
 
 BOX = None  # --box: the box of runs without a summary.json yet
@@ -95,6 +128,25 @@ class Run:
     def mu(self, r):
         m = float(r["mu_eff"])
         return (m - 1) / self.phi if self.dilute else m
+
+    def trends(self, lo, hi):
+        """{label: (drift, se, mean)} over [lo, hi): each quantity's fitted
+        change per TREND_SPAN strain units, relative to its mean."""
+        out = {}
+        rows = [r for r in self.series if lo <= float(r["strain"]) < hi]
+        cols = [(self.mu_name, self.strain(rows), [self.mu(r) for r in rows])]
+        parts = [r for r in self.particles if lo <= float(r["strain"]) < hi]
+        for col, label in TREND_SHAPE:
+            have = [r for r in parts if r.get(col) not in (None, "")]
+            cols.append((label, self.strain(have), [float(r[col]) for r in have]))
+        for label, x, v in cols:
+            if len(v) < 20:
+                continue
+            slope, se = trend(x, v)
+            mean = sum(v) / len(v)
+            if mean != 0 and math.isfinite(slope):
+                out[label] = (slope * TREND_SPAN / mean, se * TREND_SPAN / abs(mean), mean)
+        return out
 
     def window(self, lo, hi):
         """mu, T (phi's moments) and T of B (the B ellipsoid; None without
@@ -160,6 +212,7 @@ def check(run, windows):
     out["volume_drift"] = max(abs(x / v[0] - 1) for x in v)
     out["volume_ok"] = out["volume_drift"] <= 1e-12
     out["pass"] = ok and out["detb_ok"] and out["lowphi_ok"] and out["volume_ok"]
+    out["trends"] = run.trends(windows[0], windows[2])
     out["mu_name"] = run.mu_name
     out["wall_per_strain"] = run.wall_seconds / max(reached, 1e-9)
     return out
@@ -188,6 +241,18 @@ def markdown(results, windows):
         lines.append("| " + " | ".join([r["run"], r["grid"], f"{r['strain']:.1f}", f"{r['phi']:.4f}"] + cols + [
             f"[{r['detb'][0]:.4f}, {r['detb'][1]:.4f}]", f"{r['removed_max']:+.1e}", f"{r['lowphi_max']:.3f}",
             "-" if math.isnan(r["shed_max"]) else f"{r['shed_max']:.3f}", f"{r['volume_drift']:.1e}", f"{r['wall_per_strain']:.0f}", "PASS" if r["pass"] else "FAIL"]) + " |")
+    lines += ["", f"Linear trends over [{w[0]:g}, {w[2]:g}) (not a condition of the issue's): each quantity's fitted"
+              f" change per {TREND_SPAN} strain units, relative to its mean, ± one standard error (10 batch means);"
+              " 'drifts' where beyond 2 standard errors.", ""]
+    labels = ["mu"] + [label for _, label in TREND_SHAPE]
+    lines += ["| run | " + " | ".join(labels) + " |", "|" + "---|" * (len(labels) + 1)]
+    for r in results:
+        cells = []
+        for label in labels:
+            t = r["trends"].get(r["mu_name"] if label == "mu" else label)
+            cells.append("-" if t is None else
+                         f"{100 * t[0]:+.2f} ± {100 * t[1]:.2f}%{' drifts' if abs(t[0]) > 2 * t[1] else ''}")
+        lines.append(f"| {r['run']} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 

@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""The stationarity check of issue 12 (scripts/stationarity.py check), on
+synthetic run folders whose answer is known: a steady noisy run passes and
+shows no trend; a run that climbs by 1.6% over strain [10, 50) passes the
+window test (its windows differ by 0.8%, under the 1% bound) and its trend
+is reported as a drift of 1.6% per 40 strain units; det B out of [0.97,
+1.03], the stress in low-phi cells and a volume change each fail the run.
+Exits non-zero on the first failed check."""
+import csv
+import json
+import math
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+SCRIPT = os.path.join(ROOT, "scripts", "stationarity.py")
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import stationarity as st  # noqa: E402
+
+failed = []
+
+
+def check(name, ok, detail):
+    print(f"{'ok  ' if ok else 'FAIL'} {name}: {detail}")
+    if not ok:
+        failed.append(name)
+
+
+BOX = [16.0, 10.0, 16.0]
+VOL = 4 / 3 * math.pi  # one sphere of radius 1: Phi = 0.0016, a dilute run ([mu])
+
+
+def write_run(folder, mu=lambda s: 2.5, noise=0.01, detb=(0.999, 1.001), lowphi=0.02, volume=lambda s: VOL,
+              strain_end=50.0, rows=2001, seed=1):
+    """A run folder: series.csv and particles.csv every 0.025 strain units,
+    [mu](strain) plus white noise of relative size `noise`, T = 0.2 with the
+    same noise, and summary.json."""
+    rng = random.Random(seed)
+    os.makedirs(folder)
+    phi = VOL / (BOX[0] * BOX[1] * BOX[2])
+    with open(os.path.join(folder, "series.csv"), "w", newline="") as fs, \
+            open(os.path.join(folder, "particles.csv"), "w", newline="") as fp:
+        ws = csv.writer(fs)
+        wp = csv.writer(fp)
+        ws.writerow(["step", "strain", "mu_eff", "solid_volume", "detb_raw_min", "detb_raw_max",
+                     "unimodular_removed", "elastic_share_lowphi", "solid_share_lowphi"])
+        wp.writerow(["step", "strain", "taylor_mean", "taylor_b_mean", "a_mean", "b_mean", "c_mean"])
+        for i in range(rows):
+            s = strain_end * i / (rows - 1)
+            m = mu(s) * (1 + noise * rng.gauss(0, 1))
+            ws.writerow([10 * i, s, 1 + phi * m, volume(s), detb[0], detb[1], 1e-6, lowphi, 0.001])
+            t = 0.2 * (1 + noise * rng.gauss(0, 1))
+            wp.writerow([10 * i, s, t, t, 1.2, 0.83, 1.0])
+    json.dump({"case": {"box": BOX, "grid": [64, 40, 64]}, "performance": {"wall_seconds": 100.0}},
+              open(os.path.join(folder, "summary.json"), "w"))
+    return folder
+
+
+def run_check(folder):
+    return st.check(st.Run(folder), [10.0, 30.0, 50.0])
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    # 1. The trend fit recovers a known slope through noise-free data.
+    x = [i * 0.1 for i in range(400)]
+    slope, se = st.trend(x, [3 - 0.02 * v for v in x])
+    check("trend of a line", abs(slope + 0.02) < 1e-12 and se < 1e-12, f"slope {slope:.3e}, se {se:.1e}")
+
+    # 2. Steady with 1% noise: passes, and no quantity drifts beyond 2 se
+    #    (for the mean of white noise, a false alarm at 2 se has a chance of
+    #    about 5% per quantity; the seed is fixed, so the result is too).
+    r = run_check(write_run(os.path.join(tmp, "steady")))
+    t = r["trends"]["[mu]"]
+    check("steady run passes", r["pass"], f"[mu] {r['mu1'][0]:.4f} / {r['mu2'][0]:.4f}")
+    check("steady run: no trend", abs(t[0]) <= 2 * t[1] and abs(t[0]) < 0.005,
+          f"drift {100 * t[0]:+.3f} ± {100 * t[1]:.3f}% per 40")
+
+    # 3. Climbing by 1.6% over [10, 50): the windows agree (0.8% < 1%), the
+    #    trend reads the drift to a tenth of itself and flags it.
+    r = run_check(write_run(os.path.join(tmp, "climbing"), mu=lambda s: 2.5 * (1 + 0.016 * (s - 30) / 40),
+                            noise=0.002, seed=2))
+    t = r["trends"]["[mu]"]
+    check("slow climb passes the windows", r["mu_ok"] and r["pass"],
+          f"[mu] {r['mu1'][0]:.4f} / {r['mu2'][0]:.4f} (tol {r['tol_mu']:.4f})")
+    check("slow climb: trend measured", abs(t[0] - 0.016) < 0.0016 and abs(t[0]) > 2 * t[1],
+          f"drift {100 * t[0]:+.3f} ± {100 * t[1]:.3f}% per 40 (want +1.6%)")
+
+    # 4. Climbing by 3%: the windows disagree (1.5% > 1%).
+    r = run_check(write_run(os.path.join(tmp, "fast"), mu=lambda s: 2.5 * (1 + 0.03 * (s - 30) / 40),
+                            noise=0.002, seed=3))
+    check("faster climb fails", not r["mu_ok"] and not r["pass"], f"[mu] {r['mu1'][0]:.4f} / {r['mu2'][0]:.4f}")
+
+    # 5. Each other condition fails a steady run on its own.
+    for name, kw, key in (("det B 1.031", {"detb": (0.999, 1.031)}, "detb_ok"),
+                          ("low-phi share 5%", {"lowphi": 0.05}, "lowphi_ok"),
+                          ("volume 2e-12", {"volume": lambda s: VOL * (1 + 2e-12 * s / 50)}, "volume_ok")):
+        r = run_check(write_run(os.path.join(tmp, name.replace(" ", "_")), **kw))
+        check(f"{name} fails", not r[key] and not r["pass"], f"{key} = {r[key]}")
+
+    # 6. The command line: exit 0 when every run passes, 1 when one fails,
+    #    and the trend table in its output.
+    ok = subprocess.run([sys.executable, SCRIPT, "check", os.path.join(tmp, "steady")], capture_output=True,
+                        text=True)
+    bad = subprocess.run([sys.executable, SCRIPT, "check", os.path.join(tmp, "steady"), os.path.join(tmp, "fast")],
+                         capture_output=True, text=True)
+    check("exit codes", ok.returncode == 0 and bad.returncode == 1, f"{ok.returncode}, {bad.returncode}")
+    check("trend table printed", "Linear trends over [10, 50)" in ok.stdout and "| steady |" in ok.stdout,
+          ok.stdout.splitlines()[-1] if ok.stdout else ok.stderr)
+
+sys.exit(1 if failed else 0)
