@@ -2,8 +2,8 @@
 """One sphere in shear against the exact dilute theory: convergence, and
 speed against error.
 
-  perf/dilute_convergence.py run [--set conv|speed|all|narrow|walls] [--only NAME,...] [--threads N]
-                                 [--scheme thinc|mthinc|thinc09|mthinc09] [--ppr 4,6,8]
+  perf/dilute_convergence.py run [--set conv|speed|all|narrow|walls] [--only NAME,...] [--threads N] [--out DIR]
+                                 [--scheme thinc|mthinc|thinc09|mthinc09] [--cases Ca:K,...] [--ppr 4,6,8]
   perf/dilute_convergence.py report     # -> perf/results/dilute_convergence.{md,csv},
                                         #    dilute_speed_error.{csv,png}
 
@@ -722,11 +722,17 @@ def main():
     r.add_argument("--cases", default=None,
                    help="Ca:K pairs of the conv and narrow sets, comma-separated (e.g. 0.2:1,0.2:10)")
     r.add_argument("--ppr", default="4,6,8", help="points per radius of the conv set, comma-separated")
+    r.add_argument("--out", default=None,
+                   help="run folder instead of output/dilute (e.g. to time schemes side by side again); the"
+                        " report reads output/dilute only")
     sub.add_parser("report")
     a = ap.parse_args()
     if a.cmd == "report":
         cmd_report(a)
         return
+    if a.out:
+        global OUT
+        OUT = os.path.abspath(a.out)
     only = set(a.only.split(",")) if a.only else None
     try:
         ppr = tuple(int(x) for x in a.ppr.split(","))

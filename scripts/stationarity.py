@@ -45,6 +45,9 @@ x^T <B>^-1 x = r^2, <B> the phi-weighted mean of B over all cells (one
 particle: its own; many: their average, not the mean of per-particle values).
 A homogeneously deformed particle (the exact dilute solution) has both
 equal; phi shape errors that no elastic stress restores show as a gap.
+Beside them, how many connected bodies the cells with phi > 0.5 and > 0.9
+form (periodic in x and z): fewer than the particles where their phi bands
+have fused (there is no contact force).
 Runs written after particles.csv gained taylor_b_mean have the per-particle
 value at every row; this reads older runs' snapshots (needs h5py, numpy).
 """
@@ -295,11 +298,38 @@ def figure(out, pairs, labels=("new scheme", "old scheme")):
     os.replace(tmp, out)
 
 
+def clusters(phi, level):
+    """How many connected bodies the cells with phi > level form (faces
+    shared; periodic along the first and last axes, x and z, walls along the
+    middle one, y). There is no contact force (METHOD.md), so particles
+    whose phi bands touch fuse into one body here while the tracker still
+    splits them by nearest centroid: a count below the particle count says
+    the shapes it reports are parts of clusters."""
+    import numpy as np
+    inside = phi > level
+    big = np.iinfo(np.int64).max
+    lab = np.where(inside, np.arange(phi.size, dtype=np.int64).reshape(phi.shape), big)
+    while True:
+        new = lab
+        for ax in range(3):
+            for step in (1, -1):
+                nb = np.roll(lab, step, axis=ax)
+                if ax == 1:  # no wrap across the walls
+                    edge = [slice(None)] * 3
+                    edge[1] = 0 if step == 1 else -1
+                    nb[tuple(edge)] = big
+                new = np.where(inside, np.minimum(new, nb), big)
+        if np.array_equal(new, lab):
+            return len(np.unique(lab[inside]))
+        lab = new
+
+
 def shape(folders):
     import glob
     import h5py
     import numpy as np
-    print("| run | snapshot | strain | T (phi) | angle (phi) | T (B) | angle (B) |\n|---|---|---|---|---|---|---|")
+    print("| run | snapshot | strain | T (phi) | angle (phi) | T (B) | angle (B) | bodies phi > 0.5 / 0.9 |\n"
+          "|---|---|---|---|---|---|---|---|")
     for folder in folders:
         parts = {int(r["step"]): r for r in csv.DictReader(open(os.path.join(folder, "particles.csv")))}
         for f in sorted(glob.glob(os.path.join(folder, "fields_*.h5"))):
@@ -308,13 +338,14 @@ def shape(folders):
                 phi = np.clip(np.asarray(h["phi"]), 0, 1)
                 w = phi / phi.sum()
                 bxx, bxy, byy = [float((w * np.asarray(h["B" + c])).sum()) for c in ("xx", "xy", "yy")]
+                bodies = f"{clusters(phi, 0.5)} / {clusters(phi, 0.9)}"
             tr, dif = 0.5 * (bxx + byy), math.sqrt(0.25 * (bxx - byy) ** 2 + bxy ** 2)
             a, b = math.sqrt(tr + dif), math.sqrt(max(tr - dif, 0))
             r = parts.get(step)
             tp = f"{float(r['taylor_mean']):.4f} | {float(r['angle_mean_deg']):.1f}" if r else "- | -"
             st = f"{float(r['strain']):.1f}" if r else "?"
             print(f"| {os.path.basename(os.path.normpath(folder))} | {os.path.basename(f)} | {st} | {tp} | "
-                  f"{(a - b) / (a + b):.4f} | {0.5 * math.degrees(math.atan2(2 * bxy, bxx - byy)):.1f} |")
+                  f"{(a - b) / (a + b):.4f} | {0.5 * math.degrees(math.atan2(2 * bxy, bxx - byy)):.1f} | {bodies} |")
 
 
 def main():

@@ -4,7 +4,8 @@ synthetic run folders whose answer is known: a steady noisy run passes and
 shows no trend; a run that climbs by 1.6% over strain [10, 50) passes the
 window test (its windows differ by 0.8%, under the 1% bound) and its trend
 is reported as a drift of 1.6% per 40 strain units; det B out of [0.97,
-1.03], the stress in low-phi cells and a volume change each fail the run.
+1.03], the stress in low-phi cells and a volume change each fail the run;
+and the count of phi's connected bodies that the shape report gives.
 Exits non-zero on the first failed check."""
 import csv
 import json
@@ -109,5 +110,26 @@ with tempfile.TemporaryDirectory() as tmp:
     check("exit codes", ok.returncode == 0 and bad.returncode == 1, f"{ok.returncode}, {bad.returncode}")
     check("trend table printed", "Linear trends over [10, 50)" in ok.stdout and "| steady |" in ok.stdout,
           ok.stdout.splitlines()[-1] if ok.stdout else ok.stderr)
+
+# 7. Bodies of phi (the shape report's fusion count): two balls apart are
+#    two; one cut by the periodic x boundary is one; two touching only
+#    across the walls (y) stay two; a lower level joins a thin bridge.
+import numpy as np  # noqa: E402  (numpy: in the toolchain's root, as h5py for `shape`)
+
+z, y, x = np.meshgrid(np.arange(16), np.arange(12), np.arange(20), indexing="ij")
+
+
+def ball(cz, cy, cx, r=3.0):
+    return (((z - cz) ** 2 + (y - cy) ** 2 + (x - cx) ** 2) <= r * r).astype(float)
+
+
+two = ball(8, 6, 5) + ball(8, 6, 14)
+wrapped = ball(8, 6, 0)  # half of it at x = 17..19
+walls = ball(8, 0, 10, 2.0) + ball(8, 11, 10, 2.0)  # at the bottom and top wall
+bridged = two.copy()
+bridged[8, 6, 8:12] = 0.6  # a strip of phi = 0.6 between the two
+got = (st.clusters(two, 0.5), st.clusters(wrapped, 0.5), st.clusters(walls, 0.5), st.clusters(bridged, 0.5),
+       st.clusters(bridged, 0.9))
+check("bodies of phi", got == (2, 1, 2, 1, 2), f"{got} (want (2, 1, 2, 1, 2))")
 
 sys.exit(1 if failed else 0)
