@@ -611,7 +611,9 @@ def walls_table():
 
 def cmd_report(_):
     lines = ["# One sphere in shear against the exact dilute theory", "",
-             "Produced by `perf/dilute_convergence.py run --set all` (and `run --set conv --scheme mthinc`)"
+             "Produced by `perf/dilute_convergence.py run --set all` (and `run --set conv --scheme mthinc`;"
+             " with `particles.b_solid_phi = 0.9`, `--scheme thinc09` or `mthinc09`; the narrow box, `run --set"
+             " narrow --scheme S --cases Ca:K,...`)"
              " then `perf/dilute_convergence.py report`"
              " (its docstring has the set-up: 16r x 16r x 16r box, walls 8r from the sphere, Re = 0.1,"
              f" from the Couette profile, averages over strain [{FROM:g}, {STRAIN:g}), [6, 14) at K = 10). "
