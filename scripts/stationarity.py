@@ -59,14 +59,22 @@ import os
 import sys
 
 
+def batch_means(v, batches=10):
+    """The means of `batches` equal runs of v's last rows (the first
+    len(v) % batches rows left out), or None with fewer than 2 rows a batch."""
+    n = len(v) // batches
+    if n < 2:
+        return None
+    skip = len(v) - n * batches
+    return [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
+
+
 def batch_mean(v, batches=10):
     """Mean and 10-batch-means standard error (as src/averaging.cpp)."""
     m = sum(v) / len(v)
-    n = len(v) // batches
-    if n < 2:
+    bm = batch_means(v, batches)
+    if bm is None:
         return m, math.nan
-    skip = len(v) - n * batches
-    bm = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
     mb = sum(bm) / batches
     return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
 
@@ -77,12 +85,9 @@ def trend(x, v, batches=10):
     from their scatter about the line (batches - 2 degrees of freedom): the
     batches are long enough to be nearly independent where batch_mean's
     standard error is trusted. (slope, se), or (nan, nan) with too few rows."""
-    n = len(v) // batches
-    if n < 2:
+    xs, ys = batch_means(x, batches), batch_means(v, batches)
+    if ys is None:
         return math.nan, math.nan
-    skip = len(v) - n * batches
-    xs = [sum(x[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
-    ys = [sum(v[skip + b * n: skip + (b + 1) * n]) / n for b in range(batches)]
     mx, my = sum(xs) / batches, sum(ys) / batches
     sxx = sum((a - mx) ** 2 for a in xs)
     slope = sum((a - mx) * (b - my) for a, b in zip(xs, ys)) / sxx
