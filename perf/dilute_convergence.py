@@ -86,6 +86,8 @@ SCHEMES = {"thinc": ("thinc", 0.5), "mthinc": ("mthinc", 0.5), "weno5": ("weno5"
            "thinc09": ("thinc", 0.9), "mthinc09": ("mthinc", 0.9)}
 TITLES = {"thinc": "THINC", "mthinc": "MTHINC", "weno5": "WENO5", "thinc09": "THINC, b_solid_phi 0.9",
           "mthinc09": "MTHINC, b_solid_phi 0.9"}
+# the schemes the report tables (convergence, halves, narrow box) where they have runs
+TABLE_SCHEMES = ("thinc", "mthinc", "thinc09", "mthinc09")
 
 CASE = """[grid]
 nx = {nw}
@@ -623,12 +625,12 @@ def cmd_report(_):
              " from that record).", "",
              ]
     csv_rows = []
-    for scheme in ("thinc", "mthinc", "thinc09", "mthinc09"):
+    for scheme in TABLE_SCHEMES:
         if not any(record((ca, k, scheme, p)) for ca, k in CONV_CASES for p in PPRS):
             continue
         lines += convergence_table(scheme, TITLES[scheme], csv_rows)
         lines += halves_table(scheme, TITLES[scheme])
-    for scheme in ("thinc", "mthinc", "thinc09", "mthinc09"):
+    for scheme in TABLE_SCHEMES:
         for ca, k in CONV_CASES:
             lines += narrow_table(csv_rows, scheme, ca, k)
     lines += walls_table()
