@@ -44,6 +44,13 @@ def entries(run):
 
 def noise(paths, gate_path, floor, min_share):
     case = load(paths[0])["case"]
+    # one case's repeats only: runs of several scenes mixed would gate one
+    # case with the others' spread (their step times differ 20-fold)
+    others = sorted({load(p)["case"] for p in paths} - {case})
+    if others:
+        print(f"compare: --noise takes repeated runs of one case; got {case} and {', '.join(others)}",
+              file=sys.stderr)
+        sys.exit(2)
     runs = [entries(load(p)) for p in paths]
     names = set.intersection(*(set(r) for r in runs))
     worst = 0.0

@@ -4,7 +4,7 @@
 # host-device copies in the step, the transposes' bytes on 2 ranks equal to
 # the model of perf/scaling.py) and compare.py's verdicts (a run against
 # itself passes, a planted 3x slowdown of a kernel fails unless the kernel is
-# below --min-share, different grids are refused).
+# below --min-share, different grids are refused, --noise takes one case).
 # usage: perf_harness.sh SOFTFLOW-PERF MPIEXEC SOURCE_DIR
 set -eu
 perf=$1 mpiexec=$2 src=$3
@@ -59,5 +59,10 @@ check(gate(a, slow, "--min-share", str(2 * share)) == 0, f"a slower {top} below 
 other = copy.deepcopy(a)
 other["grid"] = [32, 8, 16]
 check(gate(a, other) == 2, "different grids are refused")
+# the noise of repeated runs: one case only (a 2-rank dilute run mixed with
+# the 1-rank Couette runs would set the Couette gate from its spread)
+noise = subprocess.run([sys.executable, src + "/perf/compare.py", "--noise", f"{work}/np1.json",
+                        f"{work}/np1.json", f"{work}/np2.json"], capture_output=True, text=True)
+check(noise.returncode == 2 and "one case" in noise.stderr, "--noise refuses runs of different cases")
 sys.exit(1 if fails else 0)
 PY
