@@ -4,7 +4,8 @@
 // Three separable max passes instead of the block's (2 reach + 1)^3 reads,
 // each a plain comparison the compiler vectorises. And the reverse, which
 // cells have a phi below a threshold within reach (min passes): the core
-// cells whose B the inner band reads (kernels/solid_extension.hpp).
+// cells whose B the inner band reads (kernels/solid_extension.hpp). Or the
+// block's max itself (block_max), which is the mask of every threshold.
 #pragma once
 #include "../src/types.hpp"
 
@@ -32,7 +33,7 @@ KOKKOS_INLINE_FUNCTION int line_index(int n, int size) {
 struct PassLabels {
   const char *x, *y, *z;
 };
-template <bool Below>
+template <bool Below, bool Raw = false>
 inline void mark_block(const PassLabels& labels, const Field3& phi, Real threshold, int reach,
                        const Range3& cells, const Field3& pass_x, const Field3& pass_y, const Field3& out) {
   const int r = reach;
@@ -71,7 +72,10 @@ inline void mark_block(const PassLabels& labels, const Field3& phi, Real thresho
           const Real v = pass_y(i, j, line_index<Below>(n, sz));
           m = Below ? smaller(m, v) : larger(m, v);
         }
-        out(i, j, k) = (Below ? m < threshold : m >= threshold) ? Real(1) : Real(0);
+        if (Raw)
+          out(i, j, k) = m;
+        else
+          out(i, j, k) = (Below ? m < threshold : m >= threshold) ? Real(1) : Real(0);
       });
 }
 
@@ -81,6 +85,15 @@ inline void mark_near(const Field3& phi, Real threshold, int reach, const Range3
                       const Field3& pass_y, const Field3& out) {
   mark_block<false>({"solid_near_x", "solid_near_y", "solid_near_z"}, phi, threshold, reach, cells, pass_x,
                     pass_y, out);
+}
+
+// out(i, j, k) = the largest phi in the cell's block: one field that serves as
+// mark_near's mask for every threshold (out >= threshold), so the B
+// extension's two bands share it (pass_x and pass_y scratch, out may be pass_x)
+inline void block_max(const Field3& phi, int reach, const Range3& cells, const Field3& pass_x,
+                      const Field3& pass_y, const Field3& out) {
+  mark_block<false, true>({"solid_near_x", "solid_near_y", "solid_near_z"}, phi, 0, reach, cells, pass_x,
+                          pass_y, out);
 }
 
 // out(i, j, k) = 1 on the cells of `cells` whose block holds a phi below

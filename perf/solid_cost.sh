@@ -2,12 +2,12 @@
 # Cost of the solid phase's numerics (issue 12): the dense scene
 # (cases/phi011_ca02.toml at 64 x 40 x 64, Phi = 0.11, Ca = 0.2, implicit)
 # with the old numerics (WENO5 phi, B by its own equation everywhere, no B
-# fallback, no det B projection) and with the default ones (THINC phi, B
-# fallback, B extended from the solid side, det B projected), alternated ROUNDS times in one run so both
-# see the same machine load; then the ratio of the median step times.
-# VARIANTS="old new mthinc" adds the default numerics with MTHINC for phi;
-# new09 and mthinc09 are new and mthinc with particles.b_solid_phi = 0.9
-# (B of the 0.5 <= phi < 0.9 cells from the core).
+# fallback, no det B projection) and with the default ones (MTHINC phi,
+# B of the 0.5 <= phi < 0.9 band from the core and of the outer band from
+# the solid side, B fallback, det B projected), alternated ROUNDS times in
+# one run so that all see the same machine load; then the ratio of the
+# median step times. More VARIANTS: thinc (THINC phi, b_solid_phi 0.5: the
+# default until round 15), thinc09 (THINC, 0.9), mthinc05 (MTHINC, 0.5).
 #   perf/solid_cost.sh            # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
 # Environment: ROUNDS (default 3), VARIANTS (default "old new"),
 # OMP_NUM_THREADS (default all cores), BIN.
@@ -25,8 +25,8 @@ for r in $(seq 1 "$rounds"); do
   for v in $variants; do
     extra=()
     [ $v = old ] && extra=("${old[@]}")
-    case $v in mthinc | mthinc09) extra=(--set particles.phi_scheme=mthinc) ;; esac
-    case $v in new09 | mthinc09) extra+=(--set particles.b_solid_phi=0.9) ;; esac
+    case $v in thinc | thinc09) extra=(--set particles.phi_scheme=thinc) ;; esac
+    case $v in thinc | mthinc05) extra+=(--set particles.b_solid_phi=0.5) ;; esac
     scripts/toolchain.sh run "$bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       "${extra[@]}" --warmup 3 --steps 5 --reps 5 --json "$out/${v}_$r.json" >/dev/null
     echo "solid_cost: round $r $v done" >&2
@@ -40,15 +40,16 @@ def step(v, r):
 def kern(v, r):
     k = json.load(open(f"{out}/{v}_{r}.json"))["kernels"]
     return {n: d["seconds_per_step"]["median"] for n, d in k.items() if "solid" in n}
-names = {"old": "old", "new": "new (THINC)", "mthinc": "new with MTHINC", "new09": "new, b_solid_phi 0.9",
-         "mthinc09": "MTHINC, b_solid_phi 0.9"}
+names = {"old": "old", "new": "default (MTHINC, 0.9)", "thinc": "THINC, 0.5", "thinc09": "THINC, 0.9",
+         "mthinc05": "MTHINC, 0.5"}
 steps = {v: [step(v, r) for r in range(1, rounds + 1)] for v in variants}
 others = [v for v in variants if v != "old"]
 lines = ["# Cost of the solid phase's numerics (perf/solid_cost.sh)", "",
          "Dense scene (cases/phi011_ca02.toml, 64 x 40 x 64, Phi = 0.11, Ca = 0.2, implicit), "
          "the old numerics (WENO5 phi, no B fallback, no B extension, no projection) and the default ones "
-         "(THINC phi" + (", and the same with MTHINC phi" if "mthinc" in variants else "")
-         + ("; 0.9: with particles.b_solid_phi = 0.9" if any(v.endswith("09") for v in variants) else "") + "), "
+         "(MTHINC phi, particles.b_solid_phi = 0.9, B fallback, B extension, projection)"
+         + ("; the others: the default numerics with phi_scheme and b_solid_phi as named"
+            if len(variants) > 2 else "") + ", "
          f"alternated {rounds} times; median step seconds of each harness run.", "",
          "| round | " + " | ".join(f"{names[v]} step (ms)" for v in variants) + " | "
          + " | ".join(f"{names[v]} / old" for v in others) + " |",

@@ -45,11 +45,11 @@ struct ParticleConfig {
   Real capillary = -1;               // Ca = mu_f gamma / G, or
   Real shear_modulus = -1;           // G (exactly one of the two)
   Real viscosity_ratio = 1;          // K = mu_s / mu_f
-  // the solid phase's numerics (kernels/thinc.hpp, kernels/solid_extension.hpp)
-  std::string phi_scheme = "thinc";  // phi's face values: "thinc" (sharp) or "weno5" (the reference study's)
-  Real thinc_beta = 3.5;             // THINC steepness: the interface spans about 2 / beta cells
+  // the solid phase's numerics (kernels/mthinc.hpp, kernels/solid_extension.hpp)
+  std::string phi_scheme = "mthinc";  // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
+  Real thinc_beta = 3.5;              // (M)THINC steepness: the interface spans about 2 / beta cells
   bool b_extension = true;     // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)
-  Real b_solid_phi = 0.5;      // at or above: B evolves by its own equation; below: the extension's
+  Real b_solid_phi = 0.9;      // at or above: B by its own equation; below: from the core (>= 0.5) or solid
   bool unimodular_b = true;    // B <- B / det(B)^(1/3) after each stage
   bool b_fallback = true;      // first-order B update where the stage's is not admissible
   Real b_fallback_det = 0.02;  // admissible: positive definite and |det B - 1| <= this (0: no det test)

@@ -252,7 +252,10 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
 void SolidPhase::constrain_b() {
   if (extend_b_) {
     // the transport's face-flux scratch is free between stages: the masks'
-    // passes use its arrays
+    // passes use its arrays. The largest phi within two cells says which
+    // cells are near the core and which near phi >= 0.5 (phi does not
+    // change here, so both bands read the one field)
+    block_max(q_.phi(), 2, region_, flux_.x, flux_.y, flux_.x);
     if (b_solid_phi_ > phi_solid) {
       // the inner band first, from the core: the outer band then reads it.
       // The log of each core cell within two of the band, once (the third
@@ -260,10 +263,13 @@ void SolidPhase::constrain_b() {
       const Range3 sources = grown(region_, 2, g_.all());
       mark_near_below(q_.phi(), b_solid_phi_, 2, sources, flux_.z, flux_.y, flux_.z);
       log_core_b(q_, sources, b_solid_phi_, flux_.z, core_logs_);
-      mark_near(q_.phi(), b_solid_phi_, 2, region_, flux_.x, flux_.y, flux_.x);
       extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{phi_solid, b_solid_phi_, true, core_logs_});
+      // the outer band reads inner band cells up to two cells into the
+      // ghosts (a neighbour rank's, a periodic image's, a wall's mirror):
+      // they must hold the new B there too, not the transport's (without
+      // this the answer depended on the rank grid, 1e-4-1e-2 in 6 steps)
+      fill_ghosts();
     }
-    mark_near(q_.phi(), phi_solid, 2, region_, flux_.x, flux_.y, flux_.x);
     extend_b_from_solid(q_, region_, flux_.x);
   }
   Real st[4];
