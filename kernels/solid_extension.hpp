@@ -188,8 +188,10 @@ inline UnimodularStats project_b_unimodular(const SolidFields& f, const Range3& 
         const Real d =
             det_sym(q.b0(i, j, k), q.b1(i, j, k), q.b2(i, j, k), q.b3(i, j, k), q.b4(i, j, k), q.b5(i, j, k));
         // a non-positive det B is a broken state: left alone for the run's
-        // checks to catch rather than hidden by the projection
-        if (!(d > 0)) return;
+        // checks to catch rather than hidden by the projection. det B = 1
+        // exactly (B = I: the fluid, most of a dense box) needs no cube root,
+        // the kernel's cost: the scale would be 1 exactly.
+        if (!(d > 0) || d == 1) return;
         const Real sc = 1 / Kokkos::cbrt(d);
         if (p > 0.5) acc += fraction(p) * q.b1(i, j, k) * (1 - sc);
         for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) *= sc;

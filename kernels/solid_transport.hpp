@@ -26,6 +26,7 @@
 #include "near_mask.hpp"
 #include "thinc.hpp"
 #include "weno5.hpp"
+#include "../src/x_runs.hpp"
 
 namespace softflow {
 
@@ -138,6 +139,21 @@ struct FaceFluxes {
   }
 };
 
+// B's live cells (with B's extension): `mask` from mark_near with reach 1
+// and phi_b_live over the active cells grown by one; `faces` and `cells`
+// the storage of the runs the transport finds in it (src/x_runs.hpp).
+// Empty: B everywhere.
+struct LiveCells {
+  Field3 mask;
+  XRuns faces, cells;
+  LiveCells() = default;
+  explicit LiveCells(const Grid& g)
+      : mask("solid_b_live", g.sx(), g.sy(), g.sz()),
+        faces("solid_b_live_faces", g.sy(), g.sz()),
+        cells("solid_b_live_cells", g.sy(), g.sz()) {}
+  bool on() const { return mask.data() != nullptr; }
+};
+
 // MTHINC's face values: the upwind cell's plane swept over the stage; n = 0
 // marks a cell without interface. The plane's offset d is not stored: the
 // face values need only its exp, E.
@@ -161,13 +177,12 @@ KOKKOS_INLINE_FUNCTION Real mthinc_face(const FaceFluxes& f, const Field3& q, Re
 // that is zero on its six-cell stencil is exactly zero, so phi' = 0 exactly
 // away from the solid and the solid volume is conserved to round-off.
 // `active` (inside `region`) holds the cells within 3 of phi's support at this
-// stage; the rest of `region` gets zero right-hand sides. `b_live` (optional,
-// with B's extension: mark_near with reach 1 and phi_b_live over the active
-// cells grown by one): B's right-hand side only in its live cells, B's
-// fluxes only on their faces.
+// stage; the rest of `region` gets zero right-hand sides. With `live` (B's
+// extension): B's right-hand side only in its live cells, B's fluxes only on
+// their faces, each looped over as runs (src/x_runs.hpp).
 inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const SolidFields& f,
                                 const SolidFields& rhs, const FaceFluxes& flux, const Range3& region,
-                                const Range3& active, PhiScheme scheme = {}, const Field3& b_live = {}) {
+                                const Range3& active, PhiScheme scheme = {}, const LiveCells& live = {}) {
   {
     const SolidViews r(rhs);
     const Range3 a = active;
@@ -183,6 +198,24 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   auto fx = flux.x, fy = flux.y, fz = flux.z;
   // the faces of the active cells: one more on the low side of each direction
   const Range3 faces{active.ib - 1, active.ie, active.jb - 1, active.je, active.kb - 1, active.ke};
+  const Field3 b_live = live.mask;
+  const bool masked = live.on();
+  XRuns live_faces = live.faces, live_cells = live.cells;
+  if (masked) {
+    // B's faces next to a live cell (a cell's three faces together, so the
+    // reconstruction stays one straight-line body; per-face tests made each
+    // face twice as slow, measured), and the live cells
+    find_runs(
+        "solid_b_live_faces", faces,
+        KOKKOS_LAMBDA(int i, int j, int k) {
+          return b_live(i, j, k) != 0 || b_live(i + 1, j, k) != 0 || b_live(i, j + 1, k) != 0 ||
+                 b_live(i, j, k + 1) != 0;
+        },
+        live_faces);
+    find_runs(
+        "solid_b_live_cells", active, KOKKOS_LAMBDA(int i, int j, int k) { return b_live(i, j, k) != 0; },
+        live_cells);
+  }
   for (int m = 0; m < n_solid_fields; ++m) {
     const Field3 q = f.q[m], r = rhs.q[m];
     if (m == 0 && scheme.thinc() && scheme.multi_d) {
@@ -222,16 +255,12 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
             fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), t, sdy, i, j, k);
             fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), t, sdz, i, j, k);
           });
-    } else if (m > 0 && b_live.data() != nullptr) {
-      // B's faces next to a live cell (and a few more: a cell's three faces
-      // together, so the reconstruction stays one straight-line body; per-face
-      // tests made each face twice as slow, measured). The labels are the
-      // unmasked kernels', so old and new numerics compare kernel by kernel.
-      par_for(
-          "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-            if (b_live(i, j, k) == 0 && b_live(i + 1, j, k) == 0 && b_live(i, j + 1, k) == 0 &&
-                b_live(i, j, k + 1) == 0)
-              return;
+    } else if (m > 0 && masked) {
+      // the live faces' runs (and, past a line's run limit, a few more). The
+      // labels are the unmasked kernels', so old and new numerics compare
+      // kernel by kernel.
+      par_for_runs(
+          "solid_transport_flux", live_faces, KOKKOS_LAMBDA(int i, int j, int k) {
             fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
             fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
             fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
@@ -244,7 +273,7 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
             fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
           });
     }
-    if (m > 0 && b_live.data() != nullptr) {
+    if (m > 0 && masked) {
       par_for(
           "solid_transport_divergence", active, KOKKOS_LAMBDA(int i, int j, int k) {
             const Real d = (fx(i, j, k) - fx(i - 1, j, k)) * idx + (fy(i, j, k) - fy(i, j - 1, k)) * idy +
@@ -262,12 +291,29 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
     }
   }
   const SolidViews q(f), r(rhs);
-  const bool masked = b_live.data() != nullptr;
+  if (masked) {
+    // the live cells' runs; the dead cells' right-hand sides are 0 already
+    // (the divergence's select), and a dead cell inside a stretched run gets
+    // 0 again by a select, which keeps the runs' loops vectorisable (so is
+    // the fluid test below, the same as the unmasked kernel's)
+    par_for_runs(
+        "solid_transport_source", live_cells, KOKKOS_LAMBDA(int i, int j, int k) {
+          const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
+          Real B[6];
+          for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
+          const bool on = b_live(i, j, k) != 0 && !(stencil_max(q.phi, i, j, k) < phi_fluid_cut);
+          const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
+          for (int m = 0; m < 6; ++m) {
+            const Real s = r.field(1 + m)(i, j, k) + upper_convected_source(L, B, a_of[m], b_of[m]);
+            r.field(1 + m)(i, j, k) = on ? s : Real(0);
+          }
+        });
+    return;
+  }
   par_for(
       "solid_transport_source", active, KOKKOS_LAMBDA(int i, int j, int k) {
-        // a dead cell, or fluid on the whole stencil (B is I there): B has no
-        // right-hand side
-        if ((masked && b_live(i, j, k) == 0) || stencil_max(q.phi, i, j, k) < phi_fluid_cut) {
+        // fluid on the whole stencil (B is I there): B has no right-hand side
+        if (stencil_max(q.phi, i, j, k) < phi_fluid_cut) {
           for (int m = 1; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
           return;
         }

@@ -32,7 +32,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   phi_scheme_.multi_d = cfg.particles.phi_scheme == "mthinc";
   extend_b_ = cfg.particles.b_extension;
   b_solid_phi_ = cfg.particles.b_solid_phi;
-  if (extend_b_) b_live_ = Field3("solid_b_live", g.sx(), g.sy(), g.sz());
+  if (extend_b_) b_live_ = LiveCells(g);
   if (extend_b_ && b_solid_phi_ > phi_solid) core_logs_ = SolidFields(g, "solid_core_log");
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
@@ -232,8 +232,8 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
     mark_near(
         q_.phi(), phi_b_live, 1,
         Range3{active.ib - 1, active.ie + 1, active.jb - 1, active.je + 1, active.kb - 1, active.ke + 1},
-        flux_.x, flux_.y, b_live_);  // the face-flux scratch is free before the transport
-  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme, live ? b_live_ : Field3{});
+        flux_.x, flux_.y, b_live_.mask);  // the face-flux scratch is free before the transport
+  solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme, live ? b_live_ : LiveCells{});
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_, b_check_);
   if (b_check_.on) {
     const long troubled = count_troubled(b_check_, region_);

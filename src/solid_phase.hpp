@@ -86,7 +86,7 @@ class SolidPhase {
   Halo& halo_;
   SolidFields q_, rhs_now_, rhs_before_;
   FaceFluxes flux_;        // the transport's face-flux scratch
-  Field3 b_live_;          // with B's extension: where B's right-hand side is needed (mark_near with reach 1)
+  LiveCells b_live_;       // with B's extension: where B's right-hand side is needed (mark_near with reach 1)
   SolidFields core_logs_;  // with b_solid_phi > 1/2: the core's log B the inner band reads (log_core_b)
   MomentumRhs force_now_, force_before_;
   MixtureStress stress_;

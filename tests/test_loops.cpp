@@ -5,16 +5,20 @@
 #include <gtest/gtest.h>
 
 #include "types.hpp"
+#include "x_runs.hpp"
 
 namespace softflow {
 namespace {
 
-// visits[c] = how many times par_for called the body for cell c
-HostField3 count_visits(const Range3& r, int n) {
+// visits[c] = how many times par_for (over r) or par_for_runs (over runs,
+// when given) called the body for cell c
+HostField3 count_visits(const Range3& r, int n, const XRuns* runs = nullptr) {
   Field3 visits("visits", n, n, n);
-  par_for(
-      "test_count_visits", r,
-      KOKKOS_LAMBDA(int i, int j, int k) { Kokkos::atomic_add(&visits(i, j, k), Real(1)); });
+  const auto body = KOKKOS_LAMBDA(int i, int j, int k) { Kokkos::atomic_add(&visits(i, j, k), Real(1)); };
+  if (runs)
+    par_for_runs("test_count_run_visits", *runs, body);
+  else
+    par_for("test_count_visits", r, body);
   auto h = Kokkos::create_mirror_view(visits);
   Kokkos::deep_copy(h, visits);
   return h;
@@ -68,6 +72,52 @@ TEST(Loops, EmptyRangesRunNothing) {
       for (int i = 0; i < 8; ++i) total += v(i, j, k);
   EXPECT_EQ(total, 0);
   EXPECT_EQ(weighted_sum(empty), 0);  // the reducer's identity
+}
+
+// par_for_runs (src/x_runs.hpp): the marked cells of each x line visited once
+// each and nothing unmarked, while a line has at most XRuns::max_runs runs;
+// past that, every marked cell still once, and the unmarked ones visited
+// only between the line's first and last marks (the stretched last run).
+TEST(Loops, RunsVisitTheMarkedCellsOnce) {
+  const int n = 40;
+  const Range3 r{1, n - 1, 2, n - 3, 3, n - 5};
+  // a pattern with 0 to 12 runs per line: runs of length 1..3 every few
+  // cells, more of them the larger k
+  auto mark = KOKKOS_LAMBDA(int i, int j, int k) {
+    const int period = 3 + (j + k) % 5, len = 1 + (i + j) % 3 % period;
+    return k % 7 != 0 && (i + 2 * j) % (period + (k % 3 == 0 ? 0 : 6)) < len;
+  };
+  XRuns runs("test_runs", n, n);
+  find_runs("test_find_runs", r, mark, runs);
+  const HostField3 v = count_visits(r, n, &runs);
+  long wrong = 0, lines_over = 0, stretched_visits = 0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      bool line_in = j >= r.jb && j < r.je && k >= r.kb && k < r.ke;
+      int count = 0, first = -1, last = -1;
+      for (int i = r.ib; i < r.ie && line_in; ++i) {
+        const bool m = mark(i, j, k), before = i > r.ib && mark(i - 1, j, k);
+        count += m && !before;
+        if (m && first < 0) first = i;
+        if (m) last = i;
+      }
+      const bool over = count > XRuns::max_runs;
+      lines_over += over;
+      for (int i = 0; i < n; ++i) {
+        const bool m = line_in && inside(r, i, j, k) && mark(i, j, k);
+        if (m) {
+          wrong += v(i, j, k) != 1;
+        } else if (over && i > first && i < last) {
+          wrong += v(i, j, k) > 1;
+          stretched_visits += v(i, j, k) == 1;
+        } else {
+          wrong += v(i, j, k) != 0;
+        }
+      }
+    }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(lines_over, 0) << "the pattern must exercise the run limit";
+  EXPECT_GT(stretched_visits, 0);
 }
 
 }  // namespace softflow
