@@ -89,6 +89,12 @@ inline void log_core_b(const SolidFields& f, const Range3& cells, Real source_mi
       });
 }
 
+// The six arrays a band cell's mean reads, raw (below). At namespace scope:
+// nvcc rejects a function's local type in a device lambda's captures.
+struct ExtensionSources {
+  const Real* b[6];
+};
+
 // B of the band's cells of `region` from the source cells within two cells;
 // `near` from mark_near (kernels/near_mask.hpp) with reach 2 and threshold
 // band.source_min, or block_max's with reach 2 (a cell is near where
@@ -108,10 +114,7 @@ inline void extend_b_from_solid(const SolidFields& f, const Range3& region, cons
     throw std::logic_error("extend_b_from_solid: the fields' layouts differ");
   const Real* const phi_at = q.phi.data();
   const Real* const mark_at = l.phi.data();  // log_mean: where the log was taken
-  struct Sources {
-    const Real* b[6];
-  };
-  const Sources src{{l.b0.data(), l.b1.data(), l.b2.data(), l.b3.data(), l.b4.data(), l.b5.data()}};
+  const ExtensionSources src{{l.b0.data(), l.b1.data(), l.b2.data(), l.b3.data(), l.b4.data(), l.b5.data()}};
   par_for(
       log_mean ? "solid_b_extension_core" : "solid_b_extension", region, KOKKOS_LAMBDA(int i, int j, int k) {
         const Real pc = q.phi(i, j, k);

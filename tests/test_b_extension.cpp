@@ -154,6 +154,28 @@ TEST(BExtension, LogEuclideanMeanKeepsDetOneWhereThePlainMeanSwells) {
   EXPECT_GT(b[0], 1.0) << "still stretched along x";
 }
 
+namespace {
+
+// The two tests' fields below, set outside their TEST bodies: nvcc forbids
+// extended (KOKKOS_LAMBDA) lambdas in gtest's private TestBody.
+// phi = 0.95 everywhere but 0.3 in cell (ic, jc, kc)
+void set_one_low_cell(const Grid& g, const Field3& phi, int ic, int jc, int kc) {
+  par_for(
+      "test_near_below_phi", g.all(),
+      KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = (i == ic && j == jc && k == kc) ? 0.3 : 0.95; });
+}
+
+// B_xy = 5 in the core cell beside the 0.7 cell: B_xy^2 > B_xx B_yy there
+void break_one_source(const Grid& g, const SolidFields& f) {
+  const SolidViews q(f);
+  par_for(
+      "test_extension_broken_source", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
+        if (i == i_core_end && j == ng + 3 && k == ng + 3) q.b1(i, j, k) = 5;
+      });
+}
+
+}  // namespace
+
 TEST(BExtension, NearBelowMarksTheBlockOfALowCellAtTheStoragesEdge) {
   // one cell below the threshold in a storage corner (a ghost cell): the
   // block's reads are clamped there, so exactly the cells within two of it
@@ -161,9 +183,7 @@ TEST(BExtension, NearBelowMarksTheBlockOfALowCellAtTheStoragesEdge) {
   const Grid g = plane_grid();
   Field3 phi("phi", g.sx(), g.sy(), g.sz()), a("a", g.sx(), g.sy(), g.sz()), b("b", g.sx(), g.sy(), g.sz());
   const int ic = 0, jc = 2, kc = g.sz() - 1;
-  par_for(
-      "test_near_below_phi", g.all(),
-      KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = (i == ic && j == jc && k == kc) ? 0.3 : 0.95; });
+  set_one_low_cell(g, phi, ic, jc, kc);
   mark_near_below(phi, 0.9, 2, g.all(), a, b, a);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
   int wrong = 0, marked = 0;
@@ -184,11 +204,7 @@ TEST(BExtension, LogMeanSkipsASourceThatIsNotPositiveDefinite) {
   const Grid g = plane_grid();
   SolidFields f(g, "test");
   set_plane(g, f);
-  const SolidViews q(f);
-  par_for(
-      "test_extension_broken_source", g.all(), KOKKOS_LAMBDA(int i, int j, int k) {
-        if (i == i_core_end && j == ng + 3 && k == ng + 3) q.b1(i, j, k) = 5;  // B_xy^2 > B_xx B_yy
-      });
+  break_one_source(g, f);
   extend(g, f, ExtensionBand{phi_solid, 0.9, true}, true);
   const std::vector<Real> b = b_at(f, i_inner);
   // every other source holds the core's B: its log mean is the core's B

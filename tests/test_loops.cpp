@@ -78,15 +78,20 @@ TEST(Loops, EmptyRangesRunNothing) {
 // each and nothing unmarked, while a line has at most XRuns::max_runs runs;
 // past that, every marked cell still once, and the unmarked ones visited
 // only between the line's first and last marks (the stretched last run).
+// A pattern with 0 to 12 runs per line: runs of 1 to 3 cells every 3 to 13
+// cells, none where k is a multiple of 7. A functor, not a lambda: nvcc
+// forbids extended lambdas in gtest's private TestBody.
+struct TestMarks {
+  KOKKOS_INLINE_FUNCTION bool operator()(int i, int j, int k) const {
+    const int period = 3 + (j + k) % 5 + (k % 3 == 0 ? 0 : 6), len = 1 + (i + j) % 3;
+    return k % 7 != 0 && (i + 2 * j) % period < len;
+  }
+};
+
 TEST(Loops, RunsVisitTheMarkedCellsOnce) {
   const int n = 40;
   const Range3 r{1, n - 1, 2, n - 3, 3, n - 5};
-  // a pattern with 0 to 12 runs per line: runs of length 1..3 every few
-  // cells, more of them the larger k
-  auto mark = KOKKOS_LAMBDA(int i, int j, int k) {
-    const int period = 3 + (j + k) % 5, len = 1 + (i + j) % 3 % period;
-    return k % 7 != 0 && (i + 2 * j) % (period + (k % 3 == 0 ? 0 : 6)) < len;
-  };
+  const TestMarks mark;
   XRuns runs("test_runs", n, n);
   find_runs("test_find_runs", r, mark, runs);
   const HostField3 v = count_visits(r, n, &runs);

@@ -46,6 +46,29 @@ std::string run_until_failure(const Config& c, const AfterStep& hook) {
   return "";
 }
 
+// The faults the tests plant, outside their TEST bodies: nvcc forbids
+// extended (KOKKOS_LAMBDA) lambdas in gtest's private TestBody.
+// every velocity component times 4
+void blow_up_velocity(FlowSolver& s) {
+  FlowState& st = s.state();
+  par_for(
+      "test_blow_up", s.grid().all(), KOKKOS_LAMBDA(int i, int j, int k) {
+        st.u(i, j, k) *= 4;
+        st.v(i, j, k) *= 4;
+        st.w(i, j, k) *= 4;
+      });
+}
+
+// u = NaN in the first interior cell
+void plant_nan(FlowSolver& s) {
+  FlowState& st = s.state();
+  const int n = Grid::ng + 1;
+  const double nan = std::nan("");
+  par_for(
+      "test_nan", Range3{n, n + 1, n, n + 1, n, n + 1},
+      KOKKOS_LAMBDA(int i, int j, int k) { st.u(i, j, k) = nan; });
+}
+
 }  // namespace
 
 TEST(RunGuard, StepGuardFlagsOnlyACollapse) {
@@ -76,14 +99,7 @@ TEST(RunGuard, CollapsingStepStopsTheRun) {
   fresh_dirs({dir});
   const Config c = unstable_case(dir, {"output.series_every=10"});
   const std::string msg = run_until_failure(c, [](FlowSolver& s) {
-    if (s.step < 25) return;
-    FlowState& st = s.state();
-    par_for(
-        "test_blow_up", s.grid().all(), KOKKOS_LAMBDA(int i, int j, int k) {
-          st.u(i, j, k) *= 4;
-          st.v(i, j, k) *= 4;
-          st.w(i, j, k) *= 4;
-        });
+    if (s.step >= 25) blow_up_velocity(s);
   });
   ASSERT_FALSE(msg.empty()) << "the run did not stop";
   if (world_rank() == 0) std::printf("  %s\n", msg.c_str());
@@ -102,13 +118,7 @@ TEST(RunGuard, NonFiniteFieldNeverReachesTheCheckpoint) {
   fresh_dirs({dir});
   const Config c = unstable_case(dir, {"output.series_every=0"});
   const std::string msg = run_until_failure(c, [](FlowSolver& s) {
-    if (s.step != 25 || world_rank() != 0) return;
-    FlowState& st = s.state();
-    const int n = Grid::ng + 1;
-    const double nan = std::nan("");
-    par_for(
-        "test_nan", Range3{n, n + 1, n, n + 1, n, n + 1},
-        KOKKOS_LAMBDA(int i, int j, int k) { st.u(i, j, k) = nan; });
+    if (s.step == 25 && world_rank() == 0) plant_nan(s);
   });
   ASSERT_FALSE(msg.empty()) << "the run did not stop";
   if (world_rank() == 0) std::printf("  %s\n", msg.c_str());
