@@ -116,6 +116,16 @@ KOKKOS_INLINE_FUNCTION Real stencil_max(const Field3& phi, int i, int j, int k) 
   return m;
 }
 
+// B's upper-convected source L B + B L^T in cell (i, j, k), its six components
+KOKKOS_INLINE_FUNCTION void b_source(const Field3& u, const Field3& v, const Field3& w, const SolidViews& q,
+                                     int i, int j, int k, Real idx, Real idy, Real idz, Real out[6]) {
+  const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
+  Real B[6];
+  for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
+  const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
+  for (int m = 0; m < 6; ++m) out[m] = upper_convected_source(L, B, a_of[m], b_of[m]);
+}
+
 // Face fluxes u q of one field: x(i, j, k) at face i+1/2, y at j+1/2, z at
 // k+1/2; with MTHINC also each cell's plane (normal n) and the exps its face
 // values share (E, e1, e2, eD: kernels/mthinc.hpp). Scratch of the
@@ -298,13 +308,11 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
     // the fluid test below, the same as the unmasked kernel's)
     par_for_runs(
         "solid_transport_source", live_cells, KOKKOS_LAMBDA(int i, int j, int k) {
-          const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
-          Real B[6];
-          for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
+          Real src[6];
+          b_source(u, v, w, q, i, j, k, idx, idy, idz, src);
           const bool on = b_live(i, j, k) != 0 && !(stencil_max(q.phi, i, j, k) < phi_fluid_cut);
-          const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
           for (int m = 0; m < 6; ++m) {
-            const Real s = r.field(1 + m)(i, j, k) + upper_convected_source(L, B, a_of[m], b_of[m]);
+            const Real s = r.field(1 + m)(i, j, k) + src[m];
             r.field(1 + m)(i, j, k) = on ? s : Real(0);
           }
         });
@@ -317,11 +325,9 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
           for (int m = 1; m < n_solid_fields; ++m) r.field(m)(i, j, k) = 0;
           return;
         }
-        const Gradient3 L = velocity_gradient(u, v, w, i, j, k, idx, idy, idz);
-        Real B[6];
-        for (int m = 0; m < 6; ++m) B[m] = q.B(m, i, j, k);
-        const int a_of[6] = {0, 0, 0, 1, 1, 2}, b_of[6] = {0, 1, 2, 1, 2, 2};
-        for (int m = 0; m < 6; ++m) r.field(1 + m)(i, j, k) += upper_convected_source(L, B, a_of[m], b_of[m]);
+        Real src[6];
+        b_source(u, v, w, q, i, j, k, idx, idy, idz, src);
+        for (int m = 0; m < 6; ++m) r.field(1 + m)(i, j, k) += src[m];
       });
 }
 
