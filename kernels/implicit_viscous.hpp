@@ -43,6 +43,7 @@ struct StageTerms {
   MixtureStress stress;                 // the mixture's stress operators (for R)
   StoredNu nu;                          // nu(phi) around solid_region (for R)
   Range3 solid_region{};                // where F or R can be nonzero
+  bool remainder = true;                // false: R = 0 (nu(phi) = nu0 everywhere, K = 1)
 };
 
 // The three Helmholtz right-hand sides, in the Poisson solver's y-pencil order.
@@ -78,6 +79,16 @@ inline void implicit_predictor(const Grid& g, const FlowState& s, const StageTer
         rw(m) = xw;
       });
   if (!solid) return;
+  if (!t.remainder) {
+    par_for(
+        "implicit_predictor_force", t.solid_region, KOKKOS_LAMBDA(int i, int j, int k) {
+          const long m = PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl);
+          ru(m) += c.cdt * (fu(i, j, k) + eu(i, j, k));
+          rw(m) += c.cdt * (fw(i, j, k) + ew(i, j, k));
+          if (j < vtop) rv(m) += c.cdt * (fv(i, j, k) + ev(i, j, k));
+        });
+    return;
+  }
   // the elastic force and the viscous remainder R, only where they can be nonzero
   par_for(
       "implicit_predictor_solid", t.solid_region, KOKKOS_LAMBDA(int i, int j, int k) {

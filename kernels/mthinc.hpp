@@ -160,7 +160,9 @@ KOKKOS_INLINE_FUNCTION Real mthinc_box_mean(const MthincPlane& p, const MthincEx
 // bracketed; a step that leaves the bracket is replaced by the bracket's
 // geometric midpoint. Tail cells take a closed form instead (above). d itself
 // is not needed by the transport (mthinc_offset gives it).
-KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta, MthincExps& x) {
+// e_beta = exp(beta), the same for every cell: the transport's kernel takes
+// it once (mthinc_fit(q, g, beta, x) below takes it per call)
+KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta, Real e_beta, MthincExps& x) {
   MthincPlane p{{0, 0, 0}, -1};
   x = MthincExps{1, 1, 1, 1};
   const Real norm = Kokkos::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
@@ -194,7 +196,7 @@ KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta
   // |n . X| <= sqrt(3)/2 in the cell, and tanh(beta d) = +-(1 - 2 eps) needs
   // |d| < 11.6 / beta: the root lies in |ln E| <= bound
   const Real bound = 2 * beta + 26;
-  const Real eb = Kokkos::exp(beta), e2b = eb * eb;
+  const Real eb = e_beta, e2b = eb * eb;
   Real El = Real(5.1090890280633251e-12) / e2b, Eh = 1 / El;  // e^-bound
   // start from the root of the grid-aligned plane (1-D THINC's, closed form:
   // E = e^beta (1 - e^{2 beta (q - 1)}) / (e^{2 beta q} - 1)): about 3 steps
@@ -241,6 +243,9 @@ KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta
   }
   x.E = E;
   return p;
+}
+KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta, MthincExps& x) {
+  return mthinc_fit(q, g, beta, Kokkos::exp(beta), x);
 }
 KOKKOS_INLINE_FUNCTION MthincPlane mthinc_fit(Real q, const Real g[3], Real beta) {
   MthincExps x;

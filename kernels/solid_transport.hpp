@@ -16,6 +16,7 @@
 // the region: a face next to a fluid cell can carry a tiny flux, and
 // skipping it would break the exact conservation of solid volume.
 #pragma once
+#include <cmath>
 #include <functional>
 
 #include "flow_state.hpp"
@@ -229,7 +230,7 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   for (int m = 0; m < n_solid_fields; ++m) {
     const Field3 q = f.q[m], r = rhs.q[m];
     if (m == 0 && scheme.thinc() && scheme.multi_d) {
-      const Real beta = scheme.thinc_beta;
+      const Real beta = scheme.thinc_beta, e_beta = std::exp(beta);
       const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
       const FaceFluxes fl = flux;
       // the planes of every cell upwind of a face: one more on the high side
@@ -240,7 +241,7 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
             const Real qc = q(i, j, k);
             if (mthinc_interface(qc)) youngs_gradient(q, i, j, k, gr);
             MthincExps x;
-            const MthincPlane p = mthinc_fit(qc, gr, beta, x);
+            const MthincPlane p = mthinc_fit(qc, gr, beta, e_beta, x);
             fl.nx(i, j, k) = p.dom < 0 ? 0 : p.n[0];
             fl.ny(i, j, k) = p.dom < 0 ? 0 : p.n[1];
             fl.nz(i, j, k) = p.dom < 0 ? 0 : p.n[2];
@@ -407,14 +408,17 @@ inline void phi_bounded_redistribution(const SolidFields& f,
       });
 }
 
-// Wall ghosts of the solid fields: even reflection (no flux through the wall,
-// and v = 0 there makes the wall flux vanish anyway). Whole x-z plane.
+// Wall ghosts of the solid fields from the First-th on (a template
+// argument: the field loop is unrolled at compile time, and its switch over
+// the fields with it): even reflection (no flux through the wall, and v = 0
+// there makes the wall flux vanish anyway). Whole x-z plane.
+template <int First = 0>
 inline void apply_solid_walls(const Grid& g, const SolidFields& f) {
   const int ng = Grid::ng, ny = g.ny;
   const SolidViews q(f);
   par_for(
       "walls_solid", Range3{0, g.sx(), 0, ng, 0, g.sz()}, KOKKOS_LAMBDA(int i, int m, int k) {
-        for (int c = 0; c < n_solid_fields; ++c) {
+        for (int c = First; c < n_solid_fields; ++c) {
           const Field3& a = q.field(c);
           a(i, ng - 1 - m, k) = a(i, ng + m, k);
           a(i, ng + ny + m, k) = a(i, ng + ny - 1 - m, k);

@@ -29,6 +29,8 @@ std::optional<Traffic> kernel_traffic(const std::string& label) {
       {"implicit_predictor", {10, 3, "r: u,v,w,p, N_now(3), N_before(3); w: helm_u,helm_v,helm_w"}},
       {"implicit_predictor_solid",
        {16, 3, "r: u,v,w,nu(4), F_now(3), F_before(3), helm(3); w: helm(3)", Domain::solid_force}},
+      // K = 1 (uniform mixture viscosity): the force alone
+      {"implicit_predictor_force", {9, 3, "r: F_now(3), F_before(3), helm(3); w: helm(3)", Domain::solid_force}},
       {"implicit_copy_velocity", {3, 3, "r: helm_u,helm_v,helm_w; w: u,v,w"}},
       {"implicit_pressure_update", {2, 1, "r: p,dp; w: p"}},
       // kernels/timestep_limits.hpp (reduction)

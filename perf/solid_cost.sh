@@ -6,11 +6,15 @@
 # B of the 0.5 <= phi < 0.9 band from the core and of the outer band from
 # the solid side, B fallback, det B projected), alternated ROUNDS times in
 # one run so that all see the same machine load; then the ratio of the
-# median step times. More VARIANTS: thinc (THINC phi, b_solid_phi 0.5: the
-# default until round 15), thinc09 (THINC, 0.9), mthinc05 (MTHINC, 0.5).
-#   perf/solid_cost.sh            # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
+# median step times. More VARIANTS: issue (the code as it was when issue 12
+# was filed, commit REFERENCE, default cb87e6d, with its own defaults: the
+# issue's "today's" step; built once into build-reference/), thinc (THINC
+# phi, b_solid_phi 0.5: the default until round 15), thinc09 (THINC, 0.9),
+# mthinc05 (MTHINC, 0.5).
+#   perf/solid_cost.sh                      # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
+#   VARIANTS="issue old new" perf/solid_cost.sh
 # Environment: ROUNDS (default 3), VARIANTS (default "old new"),
-# OMP_NUM_THREADS (default all cores), BIN.
+# OMP_NUM_THREADS (default all cores), BIN, REFERENCE.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${BIN:-build/perf/softflow-perf}
@@ -19,16 +23,25 @@ variants=${VARIANTS:-old new}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(nproc)}
 out=perf/results/solid_cost
 mkdir -p "$out"
+ref_bin=build-reference/src/build/perf/softflow-perf
+if [[ " $variants " == *" issue "* ]] && [ ! -x "$ref_bin" ]; then
+  ref=${REFERENCE:-cb87e6d}
+  [ -d build-reference/src ] || git worktree add --detach build-reference/src "$ref" >&2
+  scripts/toolchain.sh run bash -c 'cd build-reference/src && cmake --preset openmp >/dev/null &&
+    cmake --build build --target softflow-perf >/dev/null'
+fi
 old=(--set particles.phi_scheme=weno5 --set particles.b_extension=false --set particles.unimodular_b=false
      --set particles.b_fallback=false)
 for r in $(seq 1 "$rounds"); do
   for v in $variants; do
     extra=()
+    run_bin=$bin
     [ $v = old ] && extra=("${old[@]}")
+    [ $v = issue ] && run_bin=$ref_bin
     case $v in thinc | thinc09) extra=(--set particles.phi_scheme=thinc) ;; esac
     case $v in thinc | mthinc05) extra+=(--set particles.b_solid_phi=0.5) ;; esac
-    scripts/toolchain.sh run "$bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
-      "${extra[@]}" --warmup 3 --steps 5 --reps 5 --json "$out/${v}_$r.json" >/dev/null
+    scripts/toolchain.sh run "$run_bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
+      ${extra[@]+"${extra[@]}"} --warmup 3 --steps 5 --reps 5 --json "$out/${v}_$r.json" >/dev/null
     echo "solid_cost: round $r $v done" >&2
   done
 done
@@ -41,26 +54,31 @@ def kern(v, r):
     k = json.load(open(f"{out}/{v}_{r}.json"))["kernels"]
     return {n: d["seconds_per_step"]["median"] for n, d in k.items() if "solid" in n}
 names = {"old": "old", "new": "default (MTHINC, 0.9)", "thinc": "THINC, 0.5", "thinc09": "THINC, 0.9",
-         "mthinc05": "MTHINC, 0.5"}
+         "mthinc05": "MTHINC, 0.5", "issue": "issue-time code"}
 steps = {v: [step(v, r) for r in range(1, rounds + 1)] for v in variants}
-others = [v for v in variants if v != "old"]
+# each variant against the old numerics and, when it ran, the issue-time code
+refs = [b for b in ("old", "issue") if b in variants]
+pairs = [(v, b) for b in refs for v in variants if v not in ("old", "issue") or (v == "old" and b == "issue")]
 lines = ["# Cost of the solid phase's numerics (perf/solid_cost.sh)", "",
          "Dense scene (cases/phi011_ca02.toml, 64 x 40 x 64, Phi = 0.11, Ca = 0.2, implicit), "
          "the old numerics (WENO5 phi, no B fallback, no B extension, no projection) and the default ones "
          "(MTHINC phi, particles.b_solid_phi = 0.9, B fallback, B extension, projection)"
+         + ("; the issue-time code: commit cb87e6d (or REFERENCE) built as it was, its own defaults, "
+            "the issue's \"today's\" step" if "issue" in variants else "")
          + ("; the others: the default numerics with phi_scheme and b_solid_phi as named"
-            if len(variants) > 2 else "") + ", "
+            if len(set(variants) - {"old", "new", "issue"}) else "") + ", "
          f"alternated {rounds} times; median step seconds of each harness run.", "",
          "| round | " + " | ".join(f"{names[v]} step (ms)" for v in variants) + " | "
-         + " | ".join(f"{names[v]} / old" for v in others) + " |",
-         "|---|" + "---|" * (len(variants) + len(others))]
+         + " | ".join(f"{names[v]} / {names[b]}" for v, b in pairs) + " |",
+         "|---|" + "---|" * (len(variants) + len(pairs))]
 for r in range(rounds):
     lines.append(f"| {r + 1} | " + " | ".join(f"{1e3 * steps[v][r]:.1f}" for v in variants) + " | "
-                 + " | ".join(f"{steps[v][r] / steps['old'][r]:.3f}" for v in others) + " |")
+                 + " | ".join(f"{steps[v][r] / steps[b][r]:.3f}" for v, b in pairs) + " |")
 lines.append("")
-for v in others:
-    ratio = statistics.median(s / o for s, o in zip(steps[v], steps["old"]))
-    lines.append(f"Median ratio {names[v]} / old: {ratio:.3f} (the issue's limit: 1.3).")
+for v, b in pairs:
+    ratio = statistics.median(s / o for s, o in zip(steps[v], steps[b]))
+    lines.append(f"Median ratio {names[v]} / {names[b]}: {ratio:.3f}"
+                 + (" (the issue's limit: 1.3)." if v != "old" else "."))
 lines += ["", "Solid kernels, median seconds per step in the last round:", "",
           "| kernel | " + " | ".join(names[v] for v in variants) + " |", "|---|" + "---|" * len(variants)]
 ks = {v: kern(v, rounds) for v in variants}

@@ -186,8 +186,9 @@ void FlowSolver::explicit_stage(int s, Real dt) {
   if (solid_) {
     // the fluid's terms over the box, the mixture's excess viscosity near the solid only
     momentum_rhs(grid_, state_, cfg_.nu(), mms_, time + Rk3::c[s] * dt, rhs_now_);
-    momentum_viscous_excess(grid_, state_, solid_->stress(), solid_->viscosity(solid_->force_region()),
-                            rhs_now_, solid_->force_region());
+    if (!solid_->uniform_viscosity())
+      momentum_viscous_excess(grid_, state_, solid_->stress(), solid_->viscosity(solid_->force_region()),
+                              rhs_now_, solid_->force_region());
     solid_->advance_stage(state_, gdt, zdt);
     rk3_update_cn(grid_, state_, rhs_now_, rhs_before_, gdt, zdt, solid_->force_now(), solid_->force_before(),
                   adt / 2);
@@ -216,9 +217,11 @@ void FlowSolver::implicit_stage(int s, Real dt) {
     solid_->advance_stage(state_, c.gdt, c.zdt);
     t.force_now = solid_->force_now(), t.force_before = solid_->force_before();
     t.phi = solid_->fields().phi(), t.stress = solid_->stress();
-    // R = div(2 nu(phi) D) - nu0 L u vanishes away from the solid only if nu0 = nu_f
+    // R = div(2 nu(phi) D) - nu0 L u vanishes away from the solid only if
+    // nu0 = nu_f, and everywhere (to round-off) if nu(phi) = nu0 too (K = 1)
     t.solid_region = nu0_ == cfg_.nu() ? solid_->force_region() : grid_.interior();
-    t.nu = solid_->viscosity(t.solid_region);
+    t.remainder = !(nu0_ == cfg_.nu() && solid_->uniform_viscosity());
+    if (t.remainder) t.nu = solid_->viscosity(t.solid_region);
   }
   implicit_predictor(grid_, state_, t, c, helm_u_, helm_v_, helm_w_);
   if (solid_) solid_->end_stage();

@@ -141,6 +141,12 @@ void SolidPhase::fill_ghosts() {
   apply_solid_walls(g_, q_);
 }
 
+// after B's constraints, which leave phi (and its ghosts) as they are
+void SolidPhase::fill_b_ghosts() {
+  halo_.exchange({q_.q[1], q_.q[2], q_.q[3], q_.q[4], q_.q[5], q_.q[6]});
+  apply_solid_walls<1>(g_, q_);
+}
+
 const StoredNu& SolidPhase::viscosity(const Range3& where) {
   if (where.size() <= 0) return nu_;
   const NuFromPhi from{stress_.nu_f, stress_.dnu, q_.phi()};
@@ -268,7 +274,7 @@ void SolidPhase::constrain_b() {
       // ghosts (a neighbour rank's, a periodic image's, a wall's mirror):
       // they must hold the new B there too, not the transport's (without
       // this the answer depended on the rank grid, 1e-4-1e-2 in 6 steps)
-      fill_ghosts();
+      fill_b_ghosts();
     }
     extend_b_from_solid(q_, region_, flux_.x);
   }
@@ -287,7 +293,7 @@ void SolidPhase::constrain_b() {
   const Real total = st[2] + st[3];
   if (total != 0) b_stats_.removed_sum += st[2] / total;
   ++b_stats_.stages;
-  if (extend_b_ || unimodular_b_) fill_ghosts();
+  if (extend_b_ || unimodular_b_) fill_b_ghosts();
 }
 
 SolidPhase::BStats SolidPhase::take_b_stats() {

@@ -22,6 +22,7 @@ class SolidPhase {
   // phi from the seeded spheres (or the layer) by sub-cell sampling; B = I
   void seed();
   void fill_ghosts();
+  void fill_b_ghosts();  // B's six fields only
 
   // Before each step: the region the solid can reach in it (phi's support
   // grown by solid_region_margin, kernels/solid_region.hpp); phi and B are
@@ -50,6 +51,10 @@ class SolidPhase {
 
   const SolidFields& fields() const { return q_; }
   const MixtureStress& stress() const { return stress_; }
+  // K = 1: the mixture's viscosity is the fluid's everywhere, so the
+  // viscous excess div(2 mu(phi) D) / rho - nu_f L u is nu_f grad(div u), zero
+  // to round-off (u is projected): the flow solver skips it and nu(phi)
+  bool uniform_viscosity() const { return stress_.dnu == 0; }
   // nu(phi) of the current phi at the cell centres and edges the viscous
   // stencils of `where` (a part of the interior) read; returns the arrays
   const StoredNu& viscosity(const Range3& where);
