@@ -13,7 +13,8 @@
 # library prefix gives MPI, HDF5, FFTW, toml++, GoogleTest headers).
 # Environment: KIT (default gpu-kit), WORK (default /tmp/softflow-cuda-compile),
 # ARCH and SM (the Kokkos architecture and nvcc's, default HOPPER90 and
-# sm_90), JOBS (default all cores).
+# sm_90), JOBS (default all cores), UNITS (the units to compile, default
+# all: e.g. UNITS="src/solid_phase.cpp tests/test_mthinc.cpp" after a change).
 # Exits 1 when a unit fails; its messages are in WORK/obj/<unit>.log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -44,7 +45,7 @@ inc=(-I"$K/core/src" -I"$B" -I"$B/core/src" -I"$K/containers/src" -I"$K/algorith
 flags=(-std=c++20 -O1 "-arch=$sm" --extended-lambda --expt-relaxed-constexpr
        "-DSOFTFLOW_SOURCE_DIR=\"$repo\"")
 # config.cpp and the FFTW back end are host-only in the CUDA build (CMakeLists.txt)
-units=$(ls src/*.cpp tests/*.cpp perf/*.cpp | grep -v -e '^src/config.cpp$' -e '^src/fft_fftw.cpp$')
+units=${UNITS:-$(ls src/*.cpp tests/*.cpp perf/*.cpp | grep -v -e '^src/config.cpp$' -e '^src/fft_fftw.cpp$')}
 export K_NVCC="$K/bin/nvcc_wrapper" WORKOBJ="$work/obj"
 printf '%s\n' $units | xargs -P "$jobs" -I{} bash -c '
   u={}; o=$WORKOBJ/$(echo "$u" | tr / _)
