@@ -3,7 +3,7 @@
 issue 12, from a run folder's series.csv, particles.csv and summary.json.
 
   scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--md OUT.md]
-  scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ... [--labels NEW,OLD]
+  scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ... [--labels NEW,OLD] [--theory CA[:K]]
   (a run without a summary.json yet, or one that blew up: DIR@LXxLYxLZ gives its box)
 
 check, per run:
@@ -34,7 +34,9 @@ check, per run:
   its size. A run that passes with a quantity that drifts is not shown
   stationary beyond w2 (results/README.md, round 13).
 figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
-old scheme's run of the same case) beside it.
+old scheme's run of the same case) beside it; --theory adds the exact
+dilute theory's own start-up from a sphere at that Ca (and K, default 1),
+unbounded (scripts/ellipsoid_theory.py), in black.
 
   scripts/stationarity.py shape RUN_DIR...
 
@@ -264,7 +266,7 @@ def markdown(results, windows):
     return "\n".join(lines) + "\n"
 
 
-def figure(out, pairs, labels=("new scheme", "old scheme")):
+def figure(out, pairs, labels=("new scheme", "old scheme"), theory=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -281,6 +283,14 @@ def figure(out, pairs, labels=("new scheme", "old scheme")):
                 ax[1][c].plot(run.strain(with_b), present(with_b, "taylor_b_mean"), **style)
             ax[0][c].set_title(f"{run.name} (Phi = {run.phi:.4f})", fontsize=9)
             ax[0][c].set_ylabel(run.mu_name)
+        if theory:
+            import ellipsoid_theory as et
+            ca, k = theory
+            rows = [(s, et.observables(b, ca, k)) for s, b in
+                    et.evolve(ca, k, max(run.strain(run.series)), 0.002, 0.1)]
+            style = dict(lw=0.9, color="k", ls=":", label=f"exact theory, unbounded (Ca = {ca:g}, K = {k:g})")
+            ax[0][c].plot([s for s, _ in rows], [o["intrinsic_viscosity"] for _, o in rows], **style)
+            ax[1][c].plot([s for s, _ in rows], [o["taylor_D"] for _, o in rows], **style)
         ax[1][c].set_ylabel("T")
         ax[1][c].set_xlabel("strain")
         # the scale of the data after the start-up, so that drift is visible;
@@ -364,6 +374,7 @@ def main():
     f.add_argument("out")
     f.add_argument("pairs", nargs="+")
     f.add_argument("--labels", default="new scheme,old scheme", help="legend of the first and second run of a pair")
+    f.add_argument("--theory", help="CA[:K]: the exact dilute theory's start-up beside dilute runs")
     h = sub.add_parser("shape")
     h.add_argument("runs", nargs="+")
     ap.add_argument("--box", help="LX,LY,LZ of runs still going (no summary.json yet)")
@@ -375,7 +386,12 @@ def main():
         shape(a.runs)
         return
     if a.cmd == "figure":
-        figure(os.path.abspath(a.out), a.pairs, a.labels.split(","))
+        theory = None
+        if a.theory:
+            parts = a.theory.split(":")
+            theory = (float(parts[0]), float(parts[1]) if len(parts) > 1 else 1.0)
+            sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        figure(os.path.abspath(a.out), a.pairs, a.labels.split(","), theory)
         return
     windows = [float(x) for x in a.windows.split(",")]
     results = []

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The dilute report's order fit and Richardson extrapolation
 (perf/dilute_convergence.py), on synthetic series f = f0 + C h^p whose order
-and limit are known. Exits non-zero on the first failed check."""
+and limit are known. Exits non-zero if any check failed."""
 import math
 import os
 import sys
@@ -11,13 +11,8 @@ sys.path.insert(0, os.path.join(ROOT, "perf"))
 import dilute_convergence as dc  # noqa: E402
 
 PPR = (4, 5, 6, 7, 8, 12)
-failed = []
-
-
-def check(name, ok, detail):
-    print(f"{'ok  ' if ok else 'FAIL'} {name}: {detail}")
-    if not ok:
-        failed.append(name)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from py_checks import check, finish  # noqa: E402
 
 
 def series(f0, c, p, ppr=PPR):
@@ -78,4 +73,4 @@ check("scatter widens the order's range, which still holds p",
       large[2][0] <= 1.0 <= large[2][1] and width[2] > 2 * width[0] and abs(width[1] - width[0]) < 0.011,
       f"ranges {clean[2]}, {small[2]}, {large[2]}")
 
-sys.exit(1 if failed else 0)
+finish()

@@ -6,7 +6,7 @@ window test (its windows differ by 0.8%, under the 1% bound) and its trend
 is reported as a drift of 1.6% per 40 strain units; det B out of [0.97,
 1.03], the stress in low-phi cells and a volume change each fail the run;
 and the count of phi's connected bodies that the shape report gives.
-Exits non-zero on the first failed check."""
+Exits non-zero if any check failed."""
 import csv
 import json
 import math
@@ -21,13 +21,8 @@ SCRIPT = os.path.join(ROOT, "scripts", "stationarity.py")
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 import stationarity as st  # noqa: E402
 
-failed = []
-
-
-def check(name, ok, detail):
-    print(f"{'ok  ' if ok else 'FAIL'} {name}: {detail}")
-    if not ok:
-        failed.append(name)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from py_checks import check, finish  # noqa: E402
 
 
 BOX = [16.0, 10.0, 16.0]
@@ -132,4 +127,4 @@ got = (st.clusters(two, 0.5), st.clusters(wrapped, 0.5), st.clusters(walls, 0.5)
        st.clusters(bridged, 0.9))
 check("bodies of phi", got == (2, 1, 2, 1, 2), f"{got} (want (2, 1, 2, 1, 2))")
 
-sys.exit(1 if failed else 0)
+finish()
