@@ -287,7 +287,7 @@ def figure(out, pairs, labels=("new scheme", "old scheme"), theory=None):
             import ellipsoid_theory as et
             ca, k = theory
             rows = [(s, et.observables(b, ca, k)) for s, b in
-                    et.evolve(ca, k, max(run.strain(run.series)), 0.002, 0.1)]
+                    et.evolve(ca, k, max(run.strain(run.series)), 0.01, 0.1)]
             style = dict(lw=0.9, color="k", ls=":", label=f"exact theory, unbounded (Ca = {ca:g}, K = {k:g})")
             ax[0][c].plot([s for s, _ in rows], [o["intrinsic_viscosity"] for _, o in rows], **style)
             ax[1][c].plot([s for s, _ in rows], [o["taylor_D"] for _, o in rows], **style)
