@@ -86,6 +86,9 @@ struct PhiScheme {
   Real thinc_beta = 0;
   bool multi_d = false;
   Real stage_dt = 0;
+  // phi is the sum of colour fields transported on their own
+  // (src/colour_fields.hpp): solid_transport_rhs leaves phi's right-hand side 0
+  bool phi_from_colours = false;
   bool thinc() const { return thinc_beta > 0; }
 };
 
@@ -179,6 +182,67 @@ KOKKOS_INLINE_FUNCTION Real mthinc_face(const FaceFluxes& f, const Field3& q, Re
   return mthinc_face_value(p, x, q(iu, ju, ku), beta, ax, pos, Kokkos::fabs(vel) * sd);
 }
 
+// -div(u q) of one volume fraction (phi, or one colour's share of it) into
+// r on `active`: face values by the phi scheme (MTHINC, THINC or WENO5), each
+// face flux once into the scratch, then the divergence
+inline void phi_transport_rhs(const Grid& g, const FlowState& flow, const Field3& q, const Field3& r,
+                              const FaceFluxes& flux, const Range3& active, const PhiScheme& scheme) {
+  const Real idx = 1 / g.dx, idy = 1 / g.dy, idz = 1 / g.dz;
+  auto u = flow.u, v = flow.v, w = flow.w;
+  auto fx = flux.x, fy = flux.y, fz = flux.z;
+  const Range3 faces{active.ib - 1, active.ie, active.jb - 1, active.je, active.kb - 1, active.ke};
+  if (scheme.thinc() && scheme.multi_d) {
+    const Real beta = scheme.thinc_beta, e_beta = std::exp(beta);
+    const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
+    const FaceFluxes fl = flux;
+    // the planes of every cell upwind of a face: one more on the high side
+    const Range3 cells{faces.ib, faces.ie + 1, faces.jb, faces.je + 1, faces.kb, faces.ke + 1};
+    par_for(
+        "solid_transport_mthinc_planes", cells, KOKKOS_LAMBDA(int i, int j, int k) {
+          Real gr[3] = {0, 0, 0};
+          const Real qc = q(i, j, k);
+          if (mthinc_interface(qc)) youngs_gradient(q, i, j, k, gr);
+          MthincExps x;
+          const MthincPlane p = mthinc_fit(qc, gr, beta, e_beta, x);
+          fl.nx(i, j, k) = p.dom < 0 ? 0 : p.n[0];
+          fl.ny(i, j, k) = p.dom < 0 ? 0 : p.n[1];
+          fl.nz(i, j, k) = p.dom < 0 ? 0 : p.n[2];
+          if (p.dom < 0) return;
+          fl.E(i, j, k) = x.E;
+          fl.e1(i, j, k) = x.e1;
+          fl.e2(i, j, k) = x.e2;
+          fl.eD(i, j, k) = x.eD;
+        });
+    par_for(
+        "solid_transport_flux_mthinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+          fx(i, j, k) = u(i, j, k) * mthinc_face(fl, q, u(i, j, k), beta, sdx, 0, i, j, k);
+          fy(i, j, k) = v(i, j, k) * mthinc_face(fl, q, v(i, j, k), beta, sdy, 1, i, j, k);
+          fz(i, j, k) = w(i, j, k) * mthinc_face(fl, q, w(i, j, k), beta, sdz, 2, i, j, k);
+        });
+  } else if (scheme.thinc()) {
+    const Thinc t = make_thinc(scheme.thinc_beta);
+    const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
+    par_for(
+        "solid_transport_flux_thinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+          fx(i, j, k) = u(i, j, k) * thinc_x(q, u(i, j, k), t, sdx, i, j, k);
+          fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), t, sdy, i, j, k);
+          fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), t, sdz, i, j, k);
+        });
+  } else {
+    par_for(
+        "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+          fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
+          fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
+          fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
+        });
+  }
+  par_for(
+      "solid_transport_divergence", active, KOKKOS_LAMBDA(int i, int j, int k) {
+        r(i, j, k) = -((fx(i, j, k) - fx(i - 1, j, k)) * idx + (fy(i, j, k) - fy(i, j - 1, k)) * idy +
+                       (fz(i, j, k) - fz(i, j, k - 1)) * idz);
+      });
+}
+
 // The advection part of the right-hand sides, -div(u q) of the seven fields,
 // then B's upper-convected source. Each face flux is reconstructed once and
 // stored (a cell-wise loop would reconstruct every face twice, and WENO5 is
@@ -229,44 +293,15 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
   }
   for (int m = 0; m < n_solid_fields; ++m) {
     const Field3 q = f.q[m], r = rhs.q[m];
-    if (m == 0 && scheme.thinc() && scheme.multi_d) {
-      const Real beta = scheme.thinc_beta, e_beta = std::exp(beta);
-      const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
-      const FaceFluxes fl = flux;
-      // the planes of every cell upwind of a face: one more on the high side
-      const Range3 cells{faces.ib, faces.ie + 1, faces.jb, faces.je + 1, faces.kb, faces.ke + 1};
-      par_for(
-          "solid_transport_mthinc_planes", cells, KOKKOS_LAMBDA(int i, int j, int k) {
-            Real gr[3] = {0, 0, 0};
-            const Real qc = q(i, j, k);
-            if (mthinc_interface(qc)) youngs_gradient(q, i, j, k, gr);
-            MthincExps x;
-            const MthincPlane p = mthinc_fit(qc, gr, beta, e_beta, x);
-            fl.nx(i, j, k) = p.dom < 0 ? 0 : p.n[0];
-            fl.ny(i, j, k) = p.dom < 0 ? 0 : p.n[1];
-            fl.nz(i, j, k) = p.dom < 0 ? 0 : p.n[2];
-            if (p.dom < 0) return;
-            fl.E(i, j, k) = x.E;
-            fl.e1(i, j, k) = x.e1;
-            fl.e2(i, j, k) = x.e2;
-            fl.eD(i, j, k) = x.eD;
-          });
-      par_for(
-          "solid_transport_flux_mthinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-            fx(i, j, k) = u(i, j, k) * mthinc_face(fl, q, u(i, j, k), beta, sdx, 0, i, j, k);
-            fy(i, j, k) = v(i, j, k) * mthinc_face(fl, q, v(i, j, k), beta, sdy, 1, i, j, k);
-            fz(i, j, k) = w(i, j, k) * mthinc_face(fl, q, w(i, j, k), beta, sdz, 2, i, j, k);
-          });
-    } else if (m == 0 && scheme.thinc()) {
-      const Thinc t = make_thinc(scheme.thinc_beta);
-      const Real sdx = scheme.stage_dt * idx, sdy = scheme.stage_dt * idy, sdz = scheme.stage_dt * idz;
-      par_for(
-          "solid_transport_flux_thinc", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-            fx(i, j, k) = u(i, j, k) * thinc_x(q, u(i, j, k), t, sdx, i, j, k);
-            fy(i, j, k) = v(i, j, k) * thinc_y(q, v(i, j, k), t, sdy, i, j, k);
-            fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), t, sdz, i, j, k);
-          });
-    } else if (m > 0 && masked) {
+    if (m == 0) {
+      if (scheme.phi_from_colours)
+        par_for(
+            "solid_transport_phi_zero", active, KOKKOS_LAMBDA(int i, int j, int k) { r(i, j, k) = 0; });
+      else
+        phi_transport_rhs(g, flow, q, r, flux, active, scheme);
+      continue;
+    }
+    if (masked) {
       // the live faces' runs (and, past a line's run limit, a few more). The
       // labels are the unmasked kernels', so old and new numerics compare
       // kernel by kernel.
@@ -284,7 +319,7 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
             fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
           });
     }
-    if (m > 0 && masked) {
+    if (masked) {
       par_for(
           "solid_transport_divergence", active, KOKKOS_LAMBDA(int i, int j, int k) {
             const Real d = (fx(i, j, k) - fx(i - 1, j, k)) * idx + (fy(i, j, k) - fy(i, j - 1, k)) * idy +
@@ -380,10 +415,9 @@ KOKKOS_INLINE_FUNCTION Real kept_phi(Real p) { return p < phi_zero_cut ? Real(0)
 // caller's local lambda type in the template arguments of a function that
 // holds extended lambdas)
 // Only `region` is visited: phi is 0 outside it (kernels/solid_region.hpp).
-inline void phi_bounded_redistribution(const SolidFields& f,
+inline void phi_bounded_redistribution(const Field3& phi,
                                        const std::function<void(Real*, int)>& allreduce_sum,
                                        const Range3& region) {
-  auto phi = f.phi();
   Real sums[2] = {0, 0};
   par_reduce(
       "solid_phi_excess", region,

@@ -5,6 +5,8 @@ steady state.
 
   scripts/ellipsoid_theory.py run --ca 2 [--k 1] [--strain 60] [--dt 0.002] [--csv OUT.csv]
   scripts/ellipsoid_theory.py check [--spec PATH/dilute_theory.csv]
+  scripts/ellipsoid_theory.py steady-b --ca 2 [--k 1]   (the case override
+      particles.initial_b=[...] that starts a run from the steady shape)
   (numpy: run it through scripts/toolchain.sh run python3 ... on a machine
   without it)
 
@@ -130,12 +132,17 @@ def evolve(ca, k, strain, dt, every=None):
             yield m * dt, b
 
 
+def steady_b(ca, k, strain, dt):
+    """B at the end of a run from B = I (steady when strain is past the start-up)."""
+    for _, b in evolve(ca, k, strain, dt, strain):
+        pass
+    return b
+
+
 def steady_observables(ca, k, strain, dt):
     """The observables at the end of a run from B = I (the steady state when
     strain is past the start-up)."""
-    for _, b in evolve(ca, k, strain, dt, strain):
-        pass
-    return observables(b, ca, k)
+    return observables(steady_b(ca, k, strain, dt), ca, k)
 
 
 def self_checks():
@@ -184,8 +191,7 @@ def cmd_check(args):
         ca, k = float(row["Ca"]), float(row["K"])
         if args.only and (ca, k) not in args.only:
             continue
-        strain = 80 if k <= 1 else 150  # the viscous particle's slow start-up (test_ellipsoid_theory: 120 at Ca 0.2)
-        o = steady_observables(ca, k, strain, 0.01)
+        o = steady_observables(ca, k, steady_strain(k), 0.01)
         cells = []
         for c in keys:
             ref = float(row[c])
@@ -195,6 +201,24 @@ def cmd_check(args):
         print(f"| {k:g} | {ca:g} | " + " | ".join(cells) + " |")
     print(f"\nlargest relative difference from {args.spec}: {worst:.2%}")
     return 0 if worst < args.tol else 1
+
+
+def steady_strain(k):
+    """How long the start-up lasts: 80 strain units, 150 for a viscous
+    particle (test_ellipsoid_theory: 120 at K = 10, Ca = 0.2)."""
+    return 80 if k <= 1 else 150
+
+
+def cmd_steady_b(args):
+    """The steady B as softflow's override (xx, xy, xz, yy, yz, zz), det B = 1."""
+    self_checks()
+    b = steady_b(args.ca, args.k, steady_strain(args.k), 0.01)
+    b = b / np.linalg.det(b) ** (1 / 3)
+    o = observables(b, args.ca, args.k)
+    print(f"# steady state, Ca = {args.ca:g}, K = {args.k:g}: T = {o['taylor_D']:.4f}, "
+          f"inclination {o['inclination_deg']:.2f} deg, [mu] = {o['intrinsic_viscosity']:.4f}")
+    comps = [b[0, 0], b[0, 1], b[0, 2], b[1, 1], b[1, 2], b[2, 2]]
+    print("particles.initial_b=[" + ",".join(f"{x:.10f}" for x in comps) + "]")
 
 
 def main():
@@ -211,7 +235,15 @@ def main():
     c.add_argument("--spec", default=os.path.join(ROOT, "..", "shared", "spec", "dilute_theory.csv"))
     c.add_argument("--tol", type=float, default=0.002, help="largest relative difference allowed")
     c.add_argument("--only", default=None, help="K:Ca,... rows to check")
+    sb = sub.add_parser("steady-b")
+    sb.add_argument("--ca", type=float, required=True)
+    sb.add_argument("--k", type=float, default=1.0)
     a = ap.parse_args()
+    if a.cmd == "steady-b":
+        if a.ca <= 0 or a.k <= 0:
+            sys.exit("ellipsoid_theory: --ca and --k must be positive")
+        cmd_steady_b(a)
+        return 0
     if a.cmd == "run":
         if a.ca <= 0 or a.k <= 0 or a.strain <= 0 or a.dt <= 0:
             sys.exit("ellipsoid_theory: --ca, --k, --strain and --dt must be positive")

@@ -52,6 +52,30 @@ class TableReader {
     return true;
   }
 
+  // a fixed-length array of numbers
+  bool read_numbers(const char* key, Real* out, int n, bool required) {
+    seen_.insert(key);
+    const toml::node* node = table_ ? table_->get(key) : nullptr;
+    if (!node) {
+      if (required) throw InputError("missing key '" + full(key) + "'");
+      return false;
+    }
+    const toml::array* a = node->as_array();
+    if (!a || int(a->size()) != n)
+      throw InputError("'" + full(key) + "' must be an array of " + std::to_string(n) + " numbers");
+    for (int m = 0; m < n; ++m) {
+      const toml::node& e = *a->get(m);
+      if (e.is_integer())
+        out[m] = Real(e.as_integer()->get());
+      else if (e.is_floating_point())
+        out[m] = Real(e.as_floating_point()->get());
+      else
+        throw InputError("'" + full(key) + "' must be an array of " + std::to_string(n) + " numbers");
+      if (!std::isfinite(double(out[m]))) throw InputError("'" + full(key) + "' must be finite");
+    }
+    return true;
+  }
+
   template <class T>
   void positive(const char* key, T v) const {
     if (!(v > 0)) throw InputError("'" + full(key) + "' must be positive (got " + str(v) + ")");
@@ -104,6 +128,24 @@ void apply_override(toml::table& root, const std::string& text) {
   auto* t = root.get(table)->as_table();
   if (!t) throw InputError("override '" + text + "': '" + table + "' is not a table");
   t->insert_or_assign(key, *parsed.get("v"));
+}
+
+Real det_of(const Real* b) {
+  return b[0] * (b[3] * b[5] - b[4] * b[4]) - b[1] * (b[1] * b[5] - b[4] * b[2]) +
+         b[2] * (b[1] * b[4] - b[3] * b[2]);
+}
+
+// B must be a deformation's: symmetric positive definite (all leading minors
+// positive), and near det 1 (a scaling beyond round-off is a wrong input, not
+// a rounded one)
+void check_initial_b(const Real* b) {
+  const Real m2 = b[0] * b[3] - b[1] * b[1], d = det_of(b);
+  if (!(b[0] > 0 && m2 > 0 && d > 0))
+    throw InputError("'particles.initial_b' = [xx, xy, xz, yy, yz, zz] must be positive definite");
+  if (std::abs(d - 1) > 1e-3)
+    throw InputError(
+        "'particles.initial_b' must have det B = 1 within 1e-3 (an incompressible solid's; got " +
+        std::to_string(d) + ")");
 }
 
 }  // namespace
@@ -308,6 +350,29 @@ Config parse_config(const std::string& text, const std::string& name,
       if (!(p.b_fallback_det >= 0 && p.b_fallback_det < 1))
         throw InputError("'particles.b_fallback_det' must be in [0, 1) (got " +
                          std::to_string(p.b_fallback_det) + ")");
+      r.read("colour_fields", p.colour_fields, false);
+      r.non_negative("colour_fields", p.colour_fields);
+      if (p.colour_fields > 0 && p.shape != "spheres")
+        throw InputError("'particles.colour_fields' needs 'particles.shape = \"spheres\"'");
+      if (r.read_numbers("initial_b", p.initial_b, 6, false)) {
+        if (p.shape != "spheres")
+          throw InputError("'particles.initial_b' needs 'particles.shape = \"spheres\"'");
+        check_initial_b(p.initial_b);
+        // the incompressible solid's B has det 1: scale a rounded input onto it
+        const Real* b = p.initial_b;
+        const Real s = std::cbrt(det_of(b));
+        for (int m = 0; m < 6; ++m) p.initial_b[m] /= s;
+        if (2 * (p.radius * std::sqrt(p.initial_b[3]) + p.min_gap) > c.grid.ly)
+          throw InputError("particles of radius " + std::to_string(p.radius) +
+                           " deformed by 'particles.initial_b' (" +
+                           std::to_string(std::sqrt(p.initial_b[3])) + " r across y) and gap " +
+                           std::to_string(p.min_gap) +
+                           " do not fit between the walls (ly = " + std::to_string(c.grid.ly) + ")");
+        if (2 * p.radius * std::sqrt(p.initial_b[0]) >= c.grid.lx ||
+            2 * p.radius * std::sqrt(p.initial_b[5]) >= c.grid.lz)
+          throw InputError(
+              "a particle deformed by 'particles.initial_b' is wider than the periodic box in x or z");
+      }
     }
     r.finish();
   }

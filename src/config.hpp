@@ -53,6 +53,17 @@ struct ParticleConfig {
   bool unimodular_b = true;    // B <- B / det(B)^(1/3) after each stage
   bool b_fallback = true;      // first-order B update where the stage's is not admissible
   Real b_fallback_det = 0.02;  // admissible: positive definite and |det B - 1| <= this (0: no det test)
+  // every sphere starts homogeneously deformed: B = this (xx, xy, xz, yy, yz,
+  // zz; scaled to det B = 1 on input) inside, the shape x^T B^-1 x < r^2
+  // about its centre (a deformed sphere of the same volume). Identity: spheres
+  Real initial_b[6] = {1, 0, 0, 1, 0, 1};
+  // phi as the sum of this many colour fields, particle m in colour m % n,
+  // each transported on its own (src/colour_fields.hpp); 0: one phi field
+  int colour_fields = 0;
+  bool deformed_start() const {
+    return initial_b[0] != 1 || initial_b[1] != 0 || initial_b[2] != 0 || initial_b[3] != 1 ||
+           initial_b[4] != 0 || initial_b[5] != 1;
+  }
 };
 
 struct TimeConfig {

@@ -26,10 +26,15 @@ size_t Halo::bytes_per_field() const {
 
 void Halo::exchange(std::initializer_list<Field3> fields) {
   if (fields.size() > size_t(max_fields)) throw std::logic_error("Halo::exchange: too many fields");
-  Kokkos::Profiling::ScopedRegion region("halo_exchange");
   Field3 f[max_fields];
   int nf = 0;
   for (const auto& x : fields) f[nf++] = x;
+  exchange(f, nf);
+}
+
+void Halo::exchange(const Field3* f, int nf) {
+  if (nf > max_fields) throw std::logic_error("Halo::exchange: too many fields");
+  Kokkos::Profiling::ScopedRegion region("halo_exchange");
   exchange_dir(0, f, nf);
   exchange_dir(2, f, nf);
 }

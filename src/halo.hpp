@@ -15,6 +15,8 @@ class Halo {
   Halo(const Decomposition& dec, const Grid& g);
   // Fills the x and z ghosts of up to max_fields fields of the grid's storage shape.
   void exchange(std::initializer_list<Field3> fields);
+  // the same for nf <= max_fields fields in an array
+  void exchange(const Field3* f, int nf);
   // bytes sent per exchange of one field (for the perf harness)
   size_t bytes_per_field() const;
   // bytes sent to other ranks by all exchanges so far (for the perf harness)

@@ -154,6 +154,8 @@ void add_solid(std::vector<H5Item>& items, const FlowSolver& s) {
   if (!s.solid()) return;
   const char* names[n_solid_fields] = {"phi", "Bxx", "Bxy", "Bxz", "Byy", "Byz", "Bzz"};
   for (int m = 0; m < n_solid_fields; ++m) items.push_back({names[m], s.solid()->fields().q[m]});
+  const ColourFields& c = s.solid()->colours();
+  for (int m = 0; m < c.size(); ++m) items.push_back({"colour_" + std::to_string(m), c.colour(m)});
 }
 }  // namespace
 

@@ -24,17 +24,36 @@ int sphere_count(const Config& c) {
   return std::max(1, int(std::lround(p.volume_fraction * v / vs)));
 }
 
+double largest_stretch(const Real* b) {
+  // the largest eigenvalue of the symmetric B, in closed form (Smith 1961)
+  const double q = (b[0] + b[3] + b[5]) / 3;
+  const double p1 = b[1] * b[1] + b[2] * b[2] + b[4] * b[4];
+  const double p2 = (b[0] - q) * (b[0] - q) + (b[3] - q) * (b[3] - q) + (b[5] - q) * (b[5] - q) + 2 * p1;
+  if (p2 <= 1e-30) return q;
+  const double p = std::sqrt(p2 / 6);
+  const double c[6] = {(b[0] - q) / p, b[1] / p, b[2] / p, (b[3] - q) / p, b[4] / p, (b[5] - q) / p};
+  const double half_det = 0.5 * (c[0] * (c[3] * c[5] - c[4] * c[4]) - c[1] * (c[1] * c[5] - c[4] * c[2]) +
+                                 c[2] * (c[1] * c[4] - c[3] * c[2]));
+  const double phase = std::acos(std::clamp(half_det, -1.0, 1.0)) / 3;
+  return q + 2 * p * std::cos(phase);
+}
+
 std::vector<Sphere> seed_spheres(const Config& c) {
   const ParticleConfig& p = c.particles;
   const double lx = c.grid.lx, lz = c.grid.lz, h = c.grid.ly / 2;
-  const double r = p.radius, dmin = 2 * r + p.min_gap;
-  const double ylim = h - r - p.min_gap;
+  // a deformed start (particles.initial_b): the ellipsoid x^T B^-1 x < r^2
+  // lies within r sqrt(lambda_max(B)) of its centre and reaches r sqrt(B_yy)
+  // across y; kept apart as spheres of that radius
+  const double r = p.radius, reach = r * std::sqrt(largest_stretch(p.initial_b));
+  const double dmin = 2 * reach + p.min_gap;
+  const double ylim = h - r * std::sqrt(p.initial_b[3]) - p.min_gap;
   const int n = sphere_count(c);
   if (p.placement == "centre") return {{lx / 2, 0, lz / 2}};
   auto fail = [&](const std::string& why) {
     std::ostringstream s;
-    s << "cannot place " << n << " spheres of radius " << r << " with gap " << p.min_gap << " in the " << lx
-      << " x " << c.grid.ly << " x " << lz << " box (volume fraction "
+    s << "cannot place " << n << " spheres of radius " << r
+      << (reach > r ? " (deformed: reach " + std::to_string(reach) + ")" : "") << " with gap " << p.min_gap
+      << " in the " << lx << " x " << c.grid.ly << " x " << lz << " box (volume fraction "
       << n * 4.0 / 3.0 * M_PI * r * r * r / (lx * c.grid.ly * lz) << "): " << why;
     throw InputError(s.str());
   };

@@ -14,6 +14,9 @@ struct Sphere {
 // Number of spheres of the case: count, or round(Phi V_box / (4/3 pi r^3)).
 int sphere_count(const Config& cfg);
 
+// lambda_max of a symmetric 3x3 matrix given as (xx, xy, xz, yy, yz, zz)
+double largest_stretch(const Real* b);
+
 // Deterministic from cfg.particles.seed. Throws InputError when the spheres
 // cannot be placed with the requested gap.
 std::vector<Sphere> seed_spheres(const Config& cfg);

@@ -88,9 +88,19 @@ void reach_metric(const double ax[3], const double vec[3][3], double r, double o
 
 }  // namespace
 
-std::vector<ParticleShape> ParticleTracker::from_spheres(const std::vector<Sphere>& s) {
+std::vector<ParticleShape> ParticleTracker::from_spheres(const std::vector<Sphere>& s,
+                                                         const ParticleConfig& p) {
   std::vector<ParticleShape> v(s.size());
   for (size_t m = 0; m < s.size(); ++m) v[m].x = s[m].x, v[m].y = s[m].y, v[m].z = s[m].z;
+  if (!p.deformed_start()) return v;  // the seeded sphere's reach (update())
+  // the seeded ellipsoid x^T B^-1 x = r^2: semi-axes r sqrt(eigenvalues of B)
+  const Real* b = p.initial_b;
+  double m[3][3] = {{b[0], b[1], b[2]}, {b[1], b[3], b[4]}, {b[2], b[4], b[5]}}, ev[3], vec[3][3], ax[3];
+  eig3(m, ev, vec);
+  for (int k = 0; k < 3; ++k) ax[k] = p.radius * std::sqrt(ev[k]);
+  double reach[6];
+  reach_metric(ax, vec, p.radius, reach);
+  for (auto& shape : v) std::copy(reach, reach + 6, shape.reach);
   return v;
 }
 

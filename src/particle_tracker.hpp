@@ -45,8 +45,9 @@ struct ParticleShape {
 class ParticleTracker {
  public:
   ParticleTracker(FlowSolver& s, const std::vector<ParticleShape>& start);
-  // centroids from the seeded spheres
-  static std::vector<ParticleShape> from_spheres(const std::vector<Sphere>& s);
+  // centroids from the seeded spheres; a deformed start's (initial_b) reach
+  // from its ellipsoid
+  static std::vector<ParticleShape> from_spheres(const std::vector<Sphere>& s, const ParticleConfig& p);
   void update();
   const std::vector<ParticleShape>& shapes() const { return shapes_; }
 

@@ -97,7 +97,7 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   std::unique_ptr<ParticleTracker> tracker;
   if (solver.solid())
     tracker = std::make_unique<ParticleTracker>(
-        solver, restarted ? tracked : ParticleTracker::from_spheres(solver.solid()->spheres()));
+        solver, restarted ? tracked : ParticleTracker::from_spheres(solver.solid()->spheres(), cfg.particles));
   const std::vector<ParticleShape> no_particles;
   auto particles = [&]() -> const std::vector<ParticleShape>& {
     return tracker ? tracker->shapes() : no_particles;

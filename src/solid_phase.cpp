@@ -30,6 +30,11 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   stress_.g_rho = cfg.shear_modulus() / cfg.fluid.rho;
   phi_scheme_.thinc_beta = cfg.particles.phi_scheme != "weno5" ? cfg.particles.thinc_beta : 0;
   phi_scheme_.multi_d = cfg.particles.phi_scheme == "mthinc";
+  if (cfg.particles.colour_fields > 0) {
+    // more colours than particles would only add empty fields
+    colours_ = ColourFields(g, std::min(cfg.particles.colour_fields, sphere_count(cfg)));
+    phi_scheme_.phi_from_colours = true;
+  }
   extend_b_ = cfg.particles.b_extension;
   b_solid_phi_ = cfg.particles.b_solid_phi;
   if (extend_b_) b_live_ = LiveCells(g);
@@ -68,6 +73,23 @@ Real SolidPhase::max_stretch() const {
   return m > 1 ? m : Real(1);
 }
 
+namespace {
+// d^T B^-1 d for a B with det 1 (B^-1 = adj B); d^T d when B = I, to the bit
+struct EllipsoidNorm {
+  Real a0, a1, a2, a3, a4, a5;
+  explicit EllipsoidNorm(const Real* b)
+      : a0(b[3] * b[5] - b[4] * b[4]),
+        a1(b[2] * b[4] - b[1] * b[5]),
+        a2(b[1] * b[4] - b[2] * b[3]),
+        a3(b[0] * b[5] - b[2] * b[2]),
+        a4(b[1] * b[2] - b[0] * b[4]),
+        a5(b[0] * b[3] - b[1] * b[1]) {}
+  KOKKOS_INLINE_FUNCTION Real operator()(Real x, Real y, Real z) const {
+    return a0 * x * x + a3 * y * y + a5 * z * z + 2 * (a1 * x * y + a2 * x * z + a4 * y * z);
+  }
+};
+}  // namespace
+
 void SolidPhase::seed() {
   const Grid g = g_;
   const SolidViews q(q_);
@@ -93,45 +115,61 @@ void SolidPhase::seed() {
     Kokkos::deep_copy(c, ch);
     const Real r = p.radius, lx = g.lx, lz = g.lz;
     const int ns = p.subsamples;
-    // half-diagonal of a cell: beyond r + hd a cell is outside, within r - hd
-    // inside
-    const Real hd = 0.5 * std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz);
-    par_for(
-        "seed_spheres", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-          const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
-          Real f = 0;
-          for (int m = 0; m < n; ++m) {
-            Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
-            dx -= lx * Kokkos::round(dx / lx);
-            dz -= lz * Kokkos::round(dz / lz);
-            const Real d = Kokkos::sqrt(dx * dx + dy * dy + dz * dz);
-            if (d >= r + hd) continue;
-            if (d <= r - hd) {
-              f += 1;
-              continue;
+    // each particle is the ellipsoid |d|_A < r, |d|_A^2 = d^T A d with A =
+    // B^-1 (the sphere when B = I). |.|_A is a norm with Lipschitz constant
+    // sqrt(lambda_max(A)) = 1 / sqrt(lambda_min(B)) <= lambda_max(B) (det B
+    // = 1: lambda_min >= 1 / lambda_max^2): beyond r + hd lambda_max(B) a cell
+    // is outside, within r minus that inside, hd the half-diagonal of a cell
+    const EllipsoidNorm norm2(p.initial_b);
+    const Real lip = p.deformed_start() ? largest_stretch(p.initial_b) : Real(1);
+    const Real hd = 0.5 * std::sqrt(g.dx * g.dx + g.dy * g.dy + g.dz * g.dz) * lip;
+    // into phi, or with colours each colour's particles into its field
+    const int ncol = colours_.size();
+    for (int col = 0; col < std::max(1, ncol); ++col) {
+      const Field3 out = ncol > 0 ? colours_.colour(col) : q.phi;
+      par_for(
+          "seed_spheres", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+            const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
+            Real f = 0;
+            for (int m = 0; m < n; ++m) {
+              if (ncol > 0 && m % ncol != col) continue;
+              Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
+              dx -= lx * Kokkos::round(dx / lx);
+              dz -= lz * Kokkos::round(dz / lz);
+              const Real d = Kokkos::sqrt(norm2(dx, dy, dz));
+              if (d >= r + hd) continue;
+              if (d <= r - hd) {
+                f += 1;
+                continue;
+              }
+              int in = 0;
+              for (int a = 0; a < ns; ++a)
+                for (int b = 0; b < ns; ++b)
+                  for (int e = 0; e < ns; ++e) {
+                    const Real sx = dx + g.dx * ((a + Real(0.5)) / ns - Real(0.5));
+                    const Real sy = dy + g.dy * ((b + Real(0.5)) / ns - Real(0.5));
+                    const Real sz = dz + g.dz * ((e + Real(0.5)) / ns - Real(0.5));
+                    in += norm2(sx, sy, sz) < r * r;
+                  }
+              f += Real(in) / (ns * ns * ns);
             }
-            int in = 0;
-            for (int a = 0; a < ns; ++a)
-              for (int b = 0; b < ns; ++b)
-                for (int e = 0; e < ns; ++e) {
-                  const Real sx = dx + g.dx * ((a + Real(0.5)) / ns - Real(0.5));
-                  const Real sy = dy + g.dy * ((b + Real(0.5)) / ns - Real(0.5));
-                  const Real sz = dz + g.dz * ((e + Real(0.5)) / ns - Real(0.5));
-                  in += sx * sx + sy * sy + sz * sz < r * r;
-                }
-            f += Real(in) / (ns * ns * ns);
-          }
-          q.phi(i, j, k) = Kokkos::fmin(Real(1), f);
-        });
+            out(i, j, k) = Kokkos::fmin(Real(1), f);
+          });
+    }
+    colours_.sum_into(q.phi, g.interior());
   }
+  // B = I in the fluid; a deformed start's B in every cell with solid
+  const Real* b = p.initial_b;
+  const Real s0 = b[0], s1 = b[1], s2 = b[2], s3 = b[3], s4 = b[4], s5 = b[5];
   par_for(
-      "seed_identity", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-        q.b0(i, j, k) = 1;
-        q.b1(i, j, k) = 0;
-        q.b2(i, j, k) = 0;
-        q.b3(i, j, k) = 1;
-        q.b4(i, j, k) = 0;
-        q.b5(i, j, k) = 1;
+      "seed_b", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const bool solid = q.phi(i, j, k) > 0;
+        q.b0(i, j, k) = solid ? s0 : 1;
+        q.b1(i, j, k) = solid ? s1 : 0;
+        q.b2(i, j, k) = solid ? s2 : 0;
+        q.b3(i, j, k) = solid ? s3 : 1;
+        q.b4(i, j, k) = solid ? s4 : 0;
+        q.b5(i, j, k) = solid ? s5 : 1;
       });
   fill_ghosts();
 }
@@ -139,6 +177,7 @@ void SolidPhase::seed() {
 void SolidPhase::fill_ghosts() {
   halo_.exchange({q_.q[0], q_.q[1], q_.q[2], q_.q[3], q_.q[4], q_.q[5], q_.q[6]});
   apply_solid_walls(g_, q_);
+  colours_.fill_ghosts(halo_, g_);
 }
 
 // after B's constraints, which leave phi (and its ghosts) as they are
@@ -208,6 +247,7 @@ void SolidPhase::begin_step() {
     region_ = grown_range(support, solid_region_margin, g_.interior());
     force_region_ = grown_range(support, solid_region_margin + 1, g_.interior());
   }
+  colours_.begin_step(g_, region_);
   // the force arrays must hold 0 wherever the force kernel no longer writes
   // (the force there is 0: phi's support lies inside the new region)
   zero_outside(force_now_, old_force, force_region_);
@@ -240,15 +280,22 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
         Range3{active.ib - 1, active.ie + 1, active.jb - 1, active.je + 1, active.kb - 1, active.ke + 1},
         flux_.x, flux_.y, b_live_.mask);  // the face-flux scratch is free before the transport
   solid_transport_rhs(g_, flow, q_, rhs_now_, flux_, region_, active, scheme, live ? b_live_ : LiveCells{});
+  const auto allreduce_sum = [this](Real* x, int n) {
+    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm());
+  };
+  if (colours_.size() > 0) {
+    // phi's right-hand side is 0: the colours move, and phi is their sum
+    // before B's update reads it (its reset to I where phi vanishes)
+    colours_.advance_stage(g_, flow, flux_, scheme, gdt, zdt, allreduce_sum);
+    colours_.sum_into(q_.phi(), region_);
+  }
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_, b_check_);
   if (b_check_.on) {
     const long troubled = count_troubled(b_check_, region_);
     if (troubled > 0) b_upwind_fallback(g_, flow, q_, rhs_now_, rhs_before_, b_check_, gdt, zdt, region_);
     b_stats_.fallback_cells += troubled;
   }
-  phi_bounded_redistribution(
-      q_, [this](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm()); },
-      region_);
+  if (colours_.size() == 0) phi_bounded_redistribution(q_.phi(), allreduce_sum, region_);
   std::swap(rhs_now_, rhs_before_);
   fill_ghosts();
   constrain_b();

@@ -9,6 +9,7 @@
 #include "../kernels/solid_extension.hpp"
 #include "../kernels/solid_state.hpp"
 #include "../kernels/solid_transport.hpp"
+#include "colour_fields.hpp"
 #include "config.hpp"
 #include "halo.hpp"
 #include "particle_seeding.hpp"
@@ -50,6 +51,8 @@ class SolidPhase {
   void end_stage() { std::swap(force_now_, force_before_); }
 
   const SolidFields& fields() const { return q_; }
+  // with particles.colour_fields: phi's colours (phi is their sum)
+  const ColourFields& colours() const { return colours_; }
   const MixtureStress& stress() const { return stress_; }
   // K = 1: the mixture's viscosity is the fluid's everywhere, so the
   // viscous excess div(2 mu(phi) D) / rho - nu_f L u is nu_f grad(div u), zero
@@ -90,6 +93,7 @@ class SolidPhase {
   Grid g_;
   Halo& halo_;
   SolidFields q_, rhs_now_, rhs_before_;
+  ColourFields colours_;   // empty: phi is transported itself
   FaceFluxes flux_;        // the transport's face-flux scratch
   LiveCells b_live_;       // with B's extension: where B's right-hand side is needed (mark_near with reach 1)
   SolidFields core_logs_;  // with b_solid_phi > 1/2: the core's log B the inner band reads (log_core_b)

@@ -130,3 +130,30 @@ TEST(Config, MissingFileIsNamed) {
     EXPECT_STREQ(e.what(), "cannot open case file '/nonexistent/case.toml'");
   }
 }
+
+// particles.initial_b: six numbers, a deformation's B (positive definite,
+// det 1 within 1e-3), and a particle that still fits the box
+TEST(Config, InitialBIsChecked) {
+  const std::string particles = std::string(good) + R"(
+[particles]
+radius = 0.25
+count = 1
+placement = "centre"
+capillary = 1.0
+)";
+  expect_error(error_of(particles, {"particles.initial_b=[1.0,0.0,1.0]"}),
+               "'particles.initial_b' must be an array of 6 numbers");
+  expect_error(error_of(particles, {"particles.initial_b=[1.0,0.0,0.0,1.0,0.0,\"x\"]"}),
+               "array of 6 numbers");
+  expect_error(error_of(particles, {"particles.initial_b=[1.0,2.0,0.0,1.0,0.0,1.0]"}),
+               "must be positive definite");
+  expect_error(error_of(particles, {"particles.initial_b=[2.0,0.0,0.0,1.0,0.0,1.0]"}),
+               "det B = 1 within 1e-3");
+  // 0.25 sqrt(20) = 1.12 across y: more than half the gap (ly = 2)
+  expect_error(error_of(particles, {"particles.initial_b=[0.05,0.0,0.0,20.0,0.0,1.0]"}),
+               "do not fit between the walls");
+  // 0.25 sqrt(5) * 2 = 1.12 along x: wider than lx = 1
+  expect_error(error_of(particles, {"particles.initial_b=[5.0,0.0,0.0,0.2,0.0,1.0]"}),
+               "wider than the periodic box");
+  EXPECT_EQ(error_of(particles, {"particles.initial_b=[1.2,0.1,0.0,0.85,0.0,0.9901]"}), "");
+}

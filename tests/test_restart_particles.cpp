@@ -32,32 +32,37 @@ Config suspension(const std::string& dir, std::vector<std::string> extra = {}) {
 class RestartParticles : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RestartParticles, SuspensionRestartIsBitIdentical) {
-  const std::string scheme = GetParam();
-  const std::string tag = scheme + "_np" + std::to_string(world_size());
-  const std::string visc = "time.viscous=\"" + scheme + "\"";
+  // "colours": the implicit step with one colour field per particle
+  // (particles.colour_fields), whose fields are restored too
+  const std::string variant = GetParam(), scheme = variant == "colours" ? "implicit" : variant;
+  const std::string tag = variant + "_np" + std::to_string(world_size());
+  const std::string visc = "time.viscous=\"" + scheme + "\"",
+                    colours = "particles.colour_fields=" + std::string(variant == "colours" ? "1000" : "0");
   // the implicit step is longer: run further for the same few steps
   const std::string strain = scheme == "implicit" ? "time.end_strain=1.0" : "time.end_strain=0.06";
   const std::string a = "restart_susp_full_" + tag, b = "restart_susp_split_" + tag;
   fresh_dirs({a, b});
   std::ostringstream log;
-  RunResult full = run_case(suspension(a, {visc, strain}), MPI_COMM_WORLD, log);
-  run_case(suspension(b, {visc, strain, "time.max_steps=5"}), MPI_COMM_WORLD, log);
-  Config c = suspension(b, {visc, strain});
+  RunResult full = run_case(suspension(a, {visc, strain, colours}), MPI_COMM_WORLD, log);
+  run_case(suspension(b, {visc, strain, colours, "time.max_steps=5"}), MPI_COMM_WORLD, log);
+  Config c = suspension(b, {visc, strain, colours});
   c.restart = b + "/checkpoint.h5";
   RunResult second = run_case(c, MPI_COMM_WORLD, log);
   EXPECT_EQ(5 + second.steps, full.steps);
   EXPECT_GT(second.steps, 3);
   // every field of the two final checkpoints, bit for bit
-  Config probe = suspension(a, {visc, strain});
+  Config probe = suspension(a, {visc, strain, colours});
   FlowSolver s(probe, MPI_COMM_WORLD);
   const Grid g = s.grid();
   FieldFile file(s.decomposition(), g);
-  const char* names[] = {"u", "v", "w", "p", "phi", "Bxx", "Bxy", "Bxz", "Byy", "Byz", "Bzz"};
+  std::vector<std::string> names = {"u", "v", "w", "p", "phi", "Bxx", "Bxy", "Bxz", "Byy", "Byz", "Bzz"};
+  for (int m = 0; m < s.solid()->colours().size(); ++m) names.push_back("colour_" + std::to_string(m));
+  if (variant == "colours") EXPECT_GT(s.solid()->colours().size(), 1);
   std::vector<H5Item> ia, ib;
   std::vector<Field3> fa, fb;
-  for (const char* n : names) {
-    fa.emplace_back(std::string("a_") + n, g.sx(), g.sy(), g.sz());
-    fb.emplace_back(std::string("b_") + n, g.sx(), g.sy(), g.sz());
+  for (const std::string& n : names) {
+    fa.emplace_back("a_" + n, g.sx(), g.sy(), g.sz());
+    fb.emplace_back("b_" + n, g.sx(), g.sy(), g.sz());
     ia.push_back({n, fa.back()});
     ib.push_back({n, fb.back()});
   }
@@ -74,4 +79,4 @@ TEST_P(RestartParticles, SuspensionRestartIsBitIdentical) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Viscous, RestartParticles, ::testing::Values("explicit", "implicit"));
+INSTANTIATE_TEST_SUITE_P(Viscous, RestartParticles, ::testing::Values("explicit", "implicit", "colours"));

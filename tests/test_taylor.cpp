@@ -33,7 +33,7 @@ double taylor_at(double ca) {
                            "particles.capillary=" + std::to_string(ca)});
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
-  ParticleTracker tr(s, ParticleTracker::from_spheres(s.solid()->spheres()));
+  ParticleTracker tr(s, ParticleTracker::from_spheres(s.solid()->spheres(), c.particles));
   double sum = 0;
   int n = 0;
   const double end = 3.0;

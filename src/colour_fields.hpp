@@ -1,0 +1,54 @@
+// Multiple markers: phi as the sum of colour fields, particle m's volume in
+// colour m % n, each colour transported on its own by the phi scheme.
+//
+// Why: one phi cannot hold two interfaces in a cell. When two particles come
+// within a cell of each other, the single field's reconstruction (MTHINC's
+// plane, or WENO5's stencil) sees one body and the film between them fills:
+// numerical coalescence, which at 4-5 points per radius fuses the stiff dense
+// case's particles (results/README.md). With its own field, each particle
+// keeps its own interface however close another comes: the multiple-marker
+// remedy of VOF methods (Coyajee & Boersma, J. Comput. Phys. 228, 2009).
+// Each colour is conserved to round-off and kept in [0, 1] like phi; their
+// sum can pass 1 by the overlap of two diffuse interfaces, which
+// fraction(phi) clamps wherever phi is read as a fraction.
+//
+// phi, B, the stress and the diagnostics read phi = sum of the colours,
+// formed after every stage. A colour shared by several particles (n below
+// their number) fuses them as phi would if they meet.
+#pragma once
+#include <functional>
+#include <vector>
+
+#include "../kernels/flow_state.hpp"
+#include "../kernels/solid_transport.hpp"
+#include "halo.hpp"
+
+namespace softflow {
+
+class ColourFields {
+ public:
+  ColourFields() = default;
+  ColourFields(const Grid& g, int n);
+  int size() const { return int(c_.size()); }
+  const Field3& colour(int c) const { return c_[c]; }
+
+  // before each step: the box each colour can reach in it (within `region`,
+  // the solid's: kernels/solid_region.hpp)
+  void begin_step(const Grid& g, const Range3& region);
+  // one RK3 stage of every colour: -div(u c) by the phi scheme on the
+  // colour's support grown by 3 cells, c += gdt r_now + zdt r_before, then
+  // the bounded redistribution (kernels/solid_transport.hpp). `flux` is the
+  // transport's scratch, free on entry.
+  void advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux, const PhiScheme& scheme,
+                     Real gdt, Real zdt, const std::function<void(Real*, int)>& allreduce_sum);
+  // phi = sum of the colours on `where`
+  void sum_into(const Field3& phi, const Range3& where) const;
+  // halo and wall ghosts (even reflection, as phi's)
+  void fill_ghosts(Halo& halo, const Grid& g) const;
+
+ private:
+  std::vector<Field3> c_, now_, before_;
+  std::vector<Range3> step_box_;  // where each colour can be during this step
+};
+
+}  // namespace softflow

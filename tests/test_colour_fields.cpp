@@ -1,0 +1,126 @@
+// Multiple markers (particles.colour_fields, src/colour_fields.hpp): phi is
+// the sum of the colours, each particle's volume is in its own colour, each
+// colour is conserved and bounded on its own, and one colour transports
+// phi as phi's own transport does.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "diagnostics.hpp"
+#include "solid_util.hpp"
+
+using namespace softflow;
+using namespace softflow::test;
+
+namespace {
+
+// a dense sheared box, 4 points per radius: 6 spheres of radius 1 close
+// enough to meet within a few strain units
+Config dense_case(int colours) {
+  return couette_case(
+      24, 20, 24,
+      {"grid.lx=6.0", "grid.ly=5.0", "grid.lz=6.0", "walls.velocity=2.5", "initial.type=couette",
+       "particles.radius=1.0", "particles.count=6", "particles.capillary=0.05", "particles.seed=3",
+       "particles.colour_fields=" + std::to_string(colours)});
+}
+
+double field_sum(const Grid& g, const Field3& f) {
+  double s = 0;
+  par_reduce(
+      "test_field_sum", g.interior(), KOKKOS_LAMBDA(int i, int j, int k, double& a) { a += f(i, j, k); },
+      Kokkos::Sum<double>(s));
+  return global_sum(s);
+}
+
+// max |phi - sum of the colours| and the colours' range, over the interior
+struct ColourCheck {
+  double sum_error = 0, min = 1e300, max = -1e300;
+};
+ColourCheck check_colours(FlowSolver& s) {
+  const Grid g = s.grid();
+  const ColourFields& c = s.solid()->colours();
+  const Field3 phi = s.solid()->fields().phi();
+  ColourCheck r;
+  Field3 sum("test_colour_sum", g.sx(), g.sy(), g.sz());
+  c.sum_into(sum, g.interior());
+  r.sum_error = max_diff(phi, sum, g.interior());
+  for (int m = 0; m < c.size(); ++m) {
+    const Field3 f = c.colour(m);
+    double lo = 0, hi = 0;
+    par_reduce(
+        "test_colour_min", g.interior(),
+        KOKKOS_LAMBDA(int i, int j, int k, double& a) { a = Kokkos::fmin(a, f(i, j, k)); },
+        Kokkos::Min<double>(lo));
+    par_reduce(
+        "test_colour_max", g.interior(),
+        KOKKOS_LAMBDA(int i, int j, int k, double& a) { a = Kokkos::fmax(a, f(i, j, k)); },
+        Kokkos::Max<double>(hi));
+    r.min = std::min(r.min, -global_max(-lo));
+    r.max = std::max(r.max, global_max(hi));
+  }
+  r.sum_error = global_max(r.sum_error);
+  return r;
+}
+
+}  // namespace
+
+// Seeded: one particle per colour, each with a sphere's volume (to the
+// seeding's 1e-3, test_solid.cpp), phi their sum and equal to the one-field
+// seeding (the spheres do not overlap)
+TEST(ColourFields, SeedOneParticlePerColour) {
+  FlowSolver one(dense_case(0), MPI_COMM_WORLD), many(dense_case(6), MPI_COMM_WORLD);
+  one.initialize();
+  many.initialize();
+  const Grid g = many.grid();
+  const ColourFields& c = many.solid()->colours();
+  ASSERT_EQ(c.size(), 6);
+  for (int m = 0; m < c.size(); ++m)
+    EXPECT_NEAR(field_sum(g, c.colour(m)) * g.dx * g.dy * g.dz / (4.0 / 3.0 * M_PI), 1.0, 1e-3) << m;
+  EXPECT_LT(check_colours(many).sum_error, 1e-15);
+  EXPECT_LT(global_max(max_diff(one.solid()->fields().phi(), many.solid()->fields().phi(), g.interior())),
+            1e-15);
+  // more colours than particles: one per particle
+  Config c9 = dense_case(9);
+  FlowSolver nine(c9, MPI_COMM_WORLD);
+  EXPECT_EQ(nine.solid()->colours().size(), 6);
+}
+
+// Sheared for 2 strain units, particles meeting: every colour keeps its
+// volume to round-off and stays in [0, 1], phi is their sum, and with one
+// colour phi moves as without colours (the same scheme on the same field;
+// only the order of the redistribution's sums differs: 1e-12)
+TEST(ColourFields, ConservedBoundedAndSummed) {
+  FlowSolver many(dense_case(6), MPI_COMM_WORLD);
+  many.initialize();
+  const Grid g = many.grid();
+  const ColourFields& c = many.solid()->colours();
+  std::vector<double> v0;
+  for (int m = 0; m < c.size(); ++m) v0.push_back(field_sum(g, c.colour(m)));
+  run_to(many, 2.0);
+  for (int m = 0; m < c.size(); ++m) EXPECT_NEAR(field_sum(g, c.colour(m)) / v0[m], 1.0, 1e-12) << m;
+  const ColourCheck k = check_colours(many);
+  if (world_rank() == 0)
+    std::printf("  after %ld steps: |phi - sum| %.1e, colours in [%.1e, %.17g]\n", many.step, k.sum_error,
+                k.min, k.max);
+  EXPECT_LT(k.sum_error, 1e-15);
+  EXPECT_GE(k.min, 0.0);
+  EXPECT_LE(k.max, 1.0);
+
+  auto one_particle = [](int colours) {
+    Config c = dense_case(colours);
+    c.particles.count = 1;
+    c.particles.placement = "centre";
+    return c;
+  };
+  FlowSolver plain(one_particle(0), MPI_COMM_WORLD), coloured(one_particle(1), MPI_COMM_WORLD);
+  plain.initialize();
+  coloured.initialize();
+  run_to(plain, 2.0);
+  run_to(coloured, 2.0);
+  ASSERT_EQ(plain.step, coloured.step);
+  const double d =
+      global_max(max_diff(plain.solid()->fields().phi(), coloured.solid()->fields().phi(), g.interior()));
+  if (world_rank() == 0)
+    std::printf("  one particle, one colour against none: max |phi difference| %.1e\n", d);
+  EXPECT_LT(d, 1e-12);
+}
