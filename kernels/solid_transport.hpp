@@ -182,6 +182,19 @@ KOKKOS_INLINE_FUNCTION Real mthinc_face(const FaceFluxes& f, const Field3& q, Re
   return mthinc_face_value(p, x, q(iu, ju, ku), beta, ax, pos, Kokkos::fabs(vel) * sd);
 }
 
+// WENO5 face fluxes u q of one field on every face of `faces`
+inline void weno_face_fluxes(const FlowState& flow, const Field3& q, const FaceFluxes& flux,
+                             const Range3& faces) {
+  auto u = flow.u, v = flow.v, w = flow.w;
+  auto fx = flux.x, fy = flux.y, fz = flux.z;
+  par_for(
+      "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
+        fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
+        fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
+        fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
+      });
+}
+
 // -div(u q) of one volume fraction (phi, or one colour's share of it) into
 // r on `active`: face values by the phi scheme (MTHINC, THINC or WENO5), each
 // face flux once into the scratch, then the divergence
@@ -229,12 +242,7 @@ inline void phi_transport_rhs(const Grid& g, const FlowState& flow, const Field3
           fz(i, j, k) = w(i, j, k) * thinc_z(q, w(i, j, k), t, sdz, i, j, k);
         });
   } else {
-    par_for(
-        "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-          fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
-          fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
-          fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
-        });
+    weno_face_fluxes(flow, q, flux, faces);
   }
   par_for(
       "solid_transport_divergence", active, KOKKOS_LAMBDA(int i, int j, int k) {
@@ -312,12 +320,7 @@ inline void solid_transport_rhs(const Grid& g, const FlowState& flow, const Soli
             fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
           });
     } else {
-      par_for(
-          "solid_transport_flux", faces, KOKKOS_LAMBDA(int i, int j, int k) {
-            fx(i, j, k) = u(i, j, k) * weno_x(q, u(i, j, k), i, j, k);
-            fy(i, j, k) = v(i, j, k) * weno_y(q, v(i, j, k), i, j, k);
-            fz(i, j, k) = w(i, j, k) * weno_z(q, w(i, j, k), i, j, k);
-          });
+      weno_face_fluxes(flow, q, flux, faces);
     }
     if (masked) {
       par_for(
