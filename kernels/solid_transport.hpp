@@ -417,32 +417,49 @@ KOKKOS_INLINE_FUNCTION Real kept_phi(Real p) { return p < phi_zero_cut ? Real(0)
 // (allreduce_sum is a std::function, not a template parameter: nvcc rejects a
 // caller's local lambda type in the template arguments of a function that
 // holds extended lambdas)
-// Only `region` is visited: phi is 0 outside it (kernels/solid_region.hpp).
+// Only the `n` disjoint boxes `region` are visited: phi is 0 outside them
+// (kernels/solid_region.hpp; a colour's boxes, src/colour_boxes.hpp). In
+// two halves, so that many fields (the colours) share one allreduce: this
+// rank's {e, W} into sums[0..1], then, with the global sums, the update.
+inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int n, Real* sums) {
+  sums[0] = sums[1] = 0;
+  for (int b = 0; b < n; ++b) {
+    Real e = 0, w = 0;
+    par_reduce(
+        "solid_phi_excess", region[b],
+        KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
+          const Real p = phi(i, j, k);
+          s += p - kept_phi(p);
+        },
+        Kokkos::Sum<Real>(e));
+    par_reduce(
+        "solid_phi_interface_weight", region[b],
+        KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
+          const Real c = kept_phi(phi(i, j, k));
+          s += c * (1 - c);
+        },
+        Kokkos::Sum<Real>(w));
+    sums[0] += e;
+    sums[1] += w;
+  }
+}
+inline void phi_redistribute(const Field3& phi, const Real* global_sums, const Range3* region, int n) {
+  const Real e = global_sums[0], w = global_sums[1];
+  const Real a = w > 0 ? Kokkos::fmax(Real(-1), Kokkos::fmin(Real(1), e / w)) : Real(0);
+  for (int b = 0; b < n; ++b)
+    par_for(
+        "solid_phi_redistribute", region[b], KOKKOS_LAMBDA(int i, int j, int k) {
+          const Real c = kept_phi(phi(i, j, k));
+          phi(i, j, k) = c + a * c * (1 - c);
+        });
+}
 inline void phi_bounded_redistribution(const Field3& phi,
                                        const std::function<void(Real*, int)>& allreduce_sum,
                                        const Range3& region) {
-  Real sums[2] = {0, 0};
-  par_reduce(
-      "solid_phi_excess", region,
-      KOKKOS_LAMBDA(int i, int j, int k, Real& e) {
-        const Real p = phi(i, j, k);
-        e += p - kept_phi(p);
-      },
-      Kokkos::Sum<Real>(sums[0]));
-  par_reduce(
-      "solid_phi_interface_weight", region,
-      KOKKOS_LAMBDA(int i, int j, int k, Real& w) {
-        const Real c = kept_phi(phi(i, j, k));
-        w += c * (1 - c);
-      },
-      Kokkos::Sum<Real>(sums[1]));
+  Real sums[2];
+  phi_redistribution_sums(phi, &region, 1, sums);
   allreduce_sum(sums, 2);
-  const Real a = sums[1] > 0 ? Kokkos::fmax(Real(-1), Kokkos::fmin(Real(1), sums[0] / sums[1])) : Real(0);
-  par_for(
-      "solid_phi_redistribute", region, KOKKOS_LAMBDA(int i, int j, int k) {
-        const Real c = kept_phi(phi(i, j, k));
-        phi(i, j, k) = c + a * c * (1 - c);
-      });
+  phi_redistribute(phi, sums, &region, 1);
 }
 
 // Wall ghosts of the solid fields from the First-th on (a template

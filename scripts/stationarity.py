@@ -3,6 +3,7 @@
 issue 12, from a run folder's series.csv, particles.csv and summary.json.
 
   scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--md OUT.md]
+  scripts/stationarity.py lowphi RUN_DIR... [--box LX,LY,LZ]
   scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ... [--labels NEW,OLD] [--theory CA[:K]]
   (a run without a summary.json yet, or one that blew up: DIR@LXxLYxLZ gives its box)
 
@@ -33,6 +34,16 @@ check, per run:
   beyond 2 standard errors (a trend the noise does not explain), whatever
   its size. A run that passes with a quantity that drifts is not shown
   stationary beyond w2 (results/README.md, round 13).
+lowphi RUN_DIR... [--box LX,LY,LZ]: where the elastic shear stress of the
+phi < 0.1 cells of one particle sits, per field snapshot (runs written with
+output.fields_every > 0). Distances are in radii of the ellipsoid of its
+mean B over phi > 0.5 cells, x^T <B>^-1 x = r^2 (1: that ellipsoid's
+surface), from the phi-weighted centre (periodic means in x and z): the
+share of sum(phi B_xy) in phi < 0.1 cells within 1.25, between 1.25 and 2,
+beyond 2, and in cells not connected to the particle (phi > 1e-3 bodies
+other than the largest); the solid volume beyond 1.25; the 0.1 <= phi < 0.5
+band's share. Solid drawn out as threads that stay attached shows beyond
+1.25 and connected; shed drops show as detached.
 figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
 old scheme's run of the same case) beside it; --theory adds the exact
 dilute theory's own start-up from a sphere at that Ca (and K, default 1),
@@ -313,17 +324,13 @@ def figure(out, pairs, labels=("new scheme", "old scheme"), theory=None):
     os.replace(tmp, out)
 
 
-def clusters(phi, level):
-    """How many connected bodies the cells with phi > level form (faces
-    shared; periodic along the first and last axes, x and z, walls along the
-    middle one, y). There is no contact force (METHOD.md), so particles
-    whose phi bands touch fuse into one body here while the tracker still
-    splits them by nearest centroid: a count below the particle count says
-    the shapes it reports are parts of clusters."""
+def label_bodies(inside):
+    """Labels of the connected bodies of the cells `inside` (faces shared;
+    periodic along x and z, the first and last axes, walls along y): each
+    body's cells hold one positive label, the others 0."""
     import numpy as np
-    inside = phi > level
     big = np.iinfo(np.int64).max
-    lab = np.where(inside, np.arange(phi.size, dtype=np.int64).reshape(phi.shape), big)
+    lab = np.where(inside, np.arange(1, inside.size + 1, dtype=np.int64).reshape(inside.shape), big)
     while True:
         new = lab
         for ax in range(3):
@@ -335,8 +342,19 @@ def clusters(phi, level):
                     nb[tuple(edge)] = big
                 new = np.where(inside, np.minimum(new, nb), big)
         if np.array_equal(new, lab):
-            return len(np.unique(lab[inside]))
+            _, dense = np.unique(np.where(inside, lab, 0), return_inverse=True)
+            return dense.reshape(inside.shape) if inside.any() else np.zeros(inside.shape, dtype=np.int64)
         lab = new
+
+
+def clusters(phi, level):
+    """How many connected bodies the cells with phi > level form (faces
+    shared; periodic along the first and last axes, x and z, walls along the
+    middle one, y). There is no contact force (METHOD.md), so particles
+    whose phi bands touch fuse into one body here while the tracker still
+    splits them by nearest centroid: a count below the particle count says
+    the shapes it reports are parts of clusters."""
+    return int(label_bodies(phi > level).max())
 
 
 def shape(folders):
@@ -363,6 +381,55 @@ def shape(folders):
                   f"{(a - b) / (a + b):.4f} | {0.5 * math.degrees(math.atan2(2 * bxy, bxx - byy)):.1f} | {bodies} |")
 
 
+
+def lowphi(folders):
+    import glob
+    import h5py
+    import numpy as np
+    print("| run | strain | share phi < 0.1 | within 1.25 | 1.25-2 | beyond 2 | detached | "
+          "solid volume beyond 1.25 | share 0.1 <= phi < 0.5 |\n|---|---|---|---|---|---|---|---|---|")
+    for folder in folders:
+        run = Run(folder)
+        lx, ly, lz = run.box
+        times = {int(r["step"]): float(r["strain"]) for r in csv.DictReader(open(os.path.join(folder, "series.csv")))}
+        for f in sorted(glob.glob(os.path.join(folder, "fields_*.h5")))[1:]:
+            step = int(os.path.basename(f)[7:15])
+            with h5py.File(f, "r") as h:  # stored z, y, x: to x, y, z
+                phi = np.clip(np.asarray(h["phi"]).transpose(2, 1, 0), 0, 1)
+                b = {c: np.asarray(h["B" + c]).transpose(2, 1, 0) for c in ("xx", "xy", "xz", "yy", "yz", "zz")}
+            n = phi.shape
+            axes = []
+            for d, length in enumerate((lx, ly, lz)):
+                x = (np.arange(n[d]) + 0.5) * length / n[d]
+                w = phi.sum(axis=tuple(a for a in range(3) if a != d))
+                if d == 1:
+                    c = (w * x).sum() / w.sum()
+                    axes.append(x - c)
+                else:  # periodic: the circular mean, then the nearest image
+                    t = 2 * np.pi * x / length
+                    c = np.arctan2((w * np.sin(t)).sum(), (w * np.cos(t)).sum()) * length / (2 * np.pi)
+                    axes.append((x - c + length / 2) % length - length / 2)
+            X, Y, Z = np.meshgrid(*axes, indexing="ij")
+            core = phi * (phi > 0.5)
+            m = {c: float((core * b[c]).sum() / core.sum()) for c in b}
+            bm = np.array([[m["xx"], m["xy"], m["xz"]], [m["xy"], m["yy"], m["yz"]], [m["xz"], m["yz"], m["zz"]]])
+            bi = np.linalg.inv(bm)
+            rad = np.sqrt(bi[0, 0] * X * X + bi[1, 1] * Y * Y + bi[2, 2] * Z * Z
+                          + 2 * (bi[0, 1] * X * Y + bi[0, 2] * X * Z + bi[1, 2] * Y * Z))  # lengths in r
+            s = phi * b["xy"]
+            total = s.sum()
+            low = phi < 0.1
+            lab = label_bodies(phi > 1e-3)
+            sizes = np.bincount(lab.ravel())
+            sizes[0] = 0
+            detached = (lab != sizes.argmax()) & (lab > 0)
+            share = lambda k: f"{100 * (s * k).sum() / total:.1f}%"
+            near = min(times, key=lambda k: abs(k - step))  # series rows come every series_every steps
+            print(f"| {os.path.basename(os.path.normpath(folder))} | {times[near]:.1f} | "
+                  f"{share(low)} | {share(low & (rad < 1.25))} | {share(low & (rad >= 1.25) & (rad < 2))} | "
+                  f"{share(low & (rad >= 2))} | {share(low & detached)} | "
+                  f"{100 * (phi * (rad >= 1.25)).sum() / phi.sum():.1f}% | {share((phi >= 0.1) & (phi < 0.5))} |")
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -377,6 +444,8 @@ def main():
     f.add_argument("--theory", help="CA[:K]: the exact dilute theory's start-up beside dilute runs")
     h = sub.add_parser("shape")
     h.add_argument("runs", nargs="+")
+    lp = sub.add_parser("lowphi")
+    lp.add_argument("runs", nargs="+")
     ap.add_argument("--box", help="LX,LY,LZ of runs still going (no summary.json yet)")
     a = ap.parse_args()
     global BOX
@@ -384,6 +453,9 @@ def main():
         BOX = [float(x) for x in a.box.split(",")]
     if a.cmd == "shape":
         shape(a.runs)
+        return
+    if a.cmd == "lowphi":
+        lowphi(a.runs)
         return
     if a.cmd == "figure":
         theory = None

@@ -21,6 +21,7 @@
 
 #include "../kernels/flow_state.hpp"
 #include "../kernels/solid_transport.hpp"
+#include "colour_boxes.hpp"
 #include "halo.hpp"
 
 namespace softflow {
@@ -31,24 +32,43 @@ class ColourFields {
   ColourFields(const Grid& g, int n);
   int size() const { return int(c_.size()); }
   const Field3& colour(int c) const { return c_[c]; }
+  // where colour c can be during this step (src/colour_boxes.hpp)
+  const ColourBoxes& step_boxes(int c) const { return step_[c]; }
 
-  // before each step: the box each colour can reach in it (within `region`,
-  // the solid's: kernels/solid_region.hpp)
-  void begin_step(const Grid& g, const Range3& region);
+  // before each step: the boxes each colour can reach in it (within
+  // `region`, the solid's: kernels/solid_region.hpp), and which colours
+  // come near enough to an edge of some rank's interior to need their ghosts
+  // filled in it (collective over comm)
+  void begin_step(const Grid& g, const Range3& region, MPI_Comm comm);
   // one RK3 stage of every colour: -div(u c) by the phi scheme on the
   // colour's support grown by 3 cells, c += gdt r_now + zdt r_before, then
-  // the bounded redistribution (kernels/solid_transport.hpp). `flux` is the
-  // transport's scratch, free on entry.
+  // the bounded redistribution (kernels/solid_transport.hpp), all on the
+  // colour's step boxes. `flux` is the transport's scratch, free on entry.
   void advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux, const PhiScheme& scheme,
                      Real gdt, Real zdt, const std::function<void(Real*, int)>& allreduce_sum);
-  // phi = sum of the colours on `where`
+  // phi = sum of the colours on `where` (each colour added on its step
+  // boxes, outside which it is 0)
   void sum_into(const Field3& phi, const Range3& where) const;
-  // halo and wall ghosts (even reflection, as phi's)
+  // halo and wall ghosts (even reflection, as phi's) of the colours that
+  // need them this step; the others' ghosts hold 0 (see begin_step)
   void fill_ghosts(Halo& halo, const Grid& g) const;
 
  private:
+  // flags of the x, y and z indices where each colour c is nonzero within
+  // its scan_[c], brought to the host in one copy
+  void scan_all(const Grid& g);
+  // colour c's boxes from those flags, grown by m, within `within`
+  ColourBoxes cover(const Grid& g, int c, int m, const Range3& within) const;
+
   std::vector<Field3> c_, now_, before_;
-  std::vector<Range3> step_box_;  // where each colour can be during this step
+  std::vector<ColourBoxes> step_;  // where each colour can be during this step
+  std::vector<ColourBoxes> scan_;  // where scan_all looks for it
+  std::size_t stride_ = 0;         // one colour's flags: sx + sy + sz
+  Kokkos::View<int*, MemSpace> occ_;
+  Kokkos::View<int*, MemSpace>::host_mirror_type occ_host_;
+  std::vector<int> near_edge_;  // 1: its ghosts are filled this step
+  std::vector<Real> sums_;      // each colour's redistribution sums {e, W}
+  mutable std::vector<Field3> ghost_list_;
 };
 
 }  // namespace softflow

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "diagnostics.hpp"
+#include "particle_seeding.hpp"
 #include "solid_util.hpp"
 
 using namespace softflow;
@@ -123,4 +124,102 @@ TEST(ColourFields, ConservedBoundedAndSummed) {
   if (world_rank() == 0)
     std::printf("  one particle, one colour against none: max |phi difference| %.1e\n", d);
   EXPECT_LT(d, 1e-12);
+}
+
+// The cover of occupied indices (src/colour_boxes.hpp): an arc on a
+// periodic direction held whole, the plain interval elsewhere
+TEST(ColourBoxes, CoverIntervals) {
+  const int n = 20, ng = Grid::ng;
+  auto flags = [&](std::initializer_list<int> storage) {
+    std::vector<int> o(n + 2 * ng, 0);
+    for (int s : storage) o[s] = 1;
+    return o;
+  };
+  Interval iv[2];
+  // inside: interior 5..8 grown by 2
+  auto o = flags({ng + 5, ng + 8});
+  ASSERT_EQ(cover_intervals(o.data(), n, 2, true, iv), 1);
+  EXPECT_EQ(iv[0].lo, ng + 3);
+  EXPECT_EQ(iv[0].hi, ng + 11);
+  // across the seam: interior 18, 19, 0, 1 (and their ghost copies, ignored)
+  o = flags({ng + 18, ng + 19, ng + 0, ng + 1, 0, 1, 2, ng + n, ng + n + 1});
+  ASSERT_EQ(cover_intervals(o.data(), n, 2, true, iv), 2);
+  EXPECT_EQ(iv[0].lo, ng + 16);
+  EXPECT_EQ(iv[0].hi, ng + n);
+  EXPECT_EQ(iv[1].lo, ng);
+  EXPECT_EQ(iv[1].hi, ng + 4);
+  // a gap of 3 cells grown over by 2 on each side: the whole circle
+  std::vector<int> most(n + 2 * ng, 1);
+  for (int p = 7; p < 10; ++p) most[ng + p] = 0;
+  ASSERT_EQ(cover_intervals(most.data(), n, 2, true, iv), 1);
+  EXPECT_EQ(iv[0].lo, ng);
+  EXPECT_EQ(iv[0].hi, ng + n);
+  // nothing
+  o = flags({});
+  EXPECT_EQ(cover_intervals(o.data(), n, 2, true, iv), 0);
+  // not a circle (walls, or split over ranks): ghosts count, clipped to the interior
+  o = flags({1, ng + 2});
+  ASSERT_EQ(cover_intervals(o.data(), n, 2, false, iv), 1);
+  EXPECT_EQ(iv[0].lo, ng);
+  EXPECT_EQ(iv[0].hi, ng + 5);
+  // the seam case as a plain interval spans the direction
+  o = flags({ng + 18, ng + 1});
+  ASSERT_EQ(cover_intervals(o.data(), n, 0, false, iv), 1);
+  EXPECT_EQ(iv[0].hi - iv[0].lo, 18);
+}
+
+// A particle across the periodic x or z boundary: its colour's step boxes
+// are split at the seam and span the particle grown by the step's margin
+// (phi's support, ~15 cells at 4 points per radius with MTHINC's tails, plus
+// 2 x 9: ~33 cells), not the box's whole length (96 cells, what one bounding
+// box across the seam spans); after half a strain unit it has moved as phi does without colours (1e-12:
+// only the order of the redistribution's sums differs)
+TEST(ColourFields, ParticleAcrossTheSeamCostsItsSize) {
+  auto one_particle = [](int colours, unsigned long seed) {
+    Config c =
+        couette_case(96, 12, 96,
+                     {"grid.lx=24.0", "grid.ly=3.0", "grid.lz=24.0", "walls.velocity=1.5",
+                      "initial.type=couette", "particles.radius=1.0", "particles.count=1",
+                      "particles.capillary=0.2", "particles.colour_fields=" + std::to_string(colours)});
+    c.particles.seed = seed;
+    return c;
+  };
+  // the first seed whose sphere crosses x = 0 or z = 0 (deterministic)
+  unsigned long seed = 1;
+  for (;; ++seed) {
+    const Sphere s = seed_spheres(one_particle(1, seed))[0];
+    if (s.x < 1 || s.x > 23 || s.z < 1 || s.z > 23) break;
+    ASSERT_LT(seed, 1000u);
+  }
+  FlowSolver plain(one_particle(0, seed), MPI_COMM_WORLD), coloured(one_particle(1, seed), MPI_COMM_WORLD);
+  plain.initialize();
+  coloured.initialize();
+  const Grid g = coloured.grid();
+  const double v0 = field_sum(g, coloured.solid()->colours().colour(0));
+  run_to(plain, 0.5);
+  run_to(coloured, 0.5);
+  const ColourBoxes& b = coloured.solid()->colours().step_boxes(0);
+  // the x and z lengths the boxes cover (split boxes: the seam's two sides)
+  int lx = 0, lz = 0;
+  for (int q = 0; q < b.count; ++q) {
+    bool new_x = true, new_z = true;
+    for (int p = 0; p < q; ++p) {
+      new_x = new_x && (b.box[p].ib != b.box[q].ib);
+      new_z = new_z && (b.box[p].kb != b.box[q].kb);
+    }
+    if (new_x) lx += b.box[q].ie - b.box[q].ib;
+    if (new_z) lz += b.box[q].ke - b.box[q].kb;
+  }
+  lx = int(global_max(lx));
+  lz = int(global_max(lz));
+  if (world_rank() == 0)
+    std::printf("  seed %lu: %d step boxes, x and z lengths %d and %d of %d\n", seed, b.count, lx, lz, g.nx);
+  EXPECT_LE(lx, g.nx / 2);
+  EXPECT_LE(lz, g.nz / 2);
+  if (g.nxl == g.nx && g.nzl == g.nz) EXPECT_GE(b.count, 2);  // one rank: x and z are circles
+  EXPECT_NEAR(field_sum(g, coloured.solid()->colours().colour(0)) / v0, 1.0, 1e-12);
+  ASSERT_EQ(plain.step, coloured.step);
+  EXPECT_LT(
+      global_max(max_diff(plain.solid()->fields().phi(), coloured.solid()->fields().phi(), g.interior())),
+      1e-12);
 }

@@ -68,27 +68,29 @@ TEST_P(RankGrids, SameFieldsOnEveryRankGrid) {
   }
 }
 
-TEST_P(RankGrids, SameSuspensionOnEveryRankGrid) {
-  const std::string scheme = GetParam();
-  // a dense suspension: WENO5 transport, mixture stress, elastic force and
-  // the global phi redistribution must not depend on the decomposition
+// a dense suspension (Phi = 0.33, 32 particles): transport, mixture stress,
+// elastic force and the global phi redistribution must not depend on the
+// decomposition; with `colours` one colour field per particle, whose boxes,
+// redistribution and ghosts (filled only near a rank's edge,
+// src/colour_fields.cpp) must not either
+void same_suspension_on_every_rank_grid(const std::string& scheme, int colours, int steps) {
   const int n = world_size();
-  if (n == 1) GTEST_SKIP() << "needs more than one rank";
   const std::string file = std::string(SOFTFLOW_SOURCE_DIR) + "/cases/hard/phi033_ca2.toml";
   auto make = [&](int px, int pz, int ranks) {
-    Config c = load_config(file, {"parallel.px=" + std::to_string(px), "parallel.pz=" + std::to_string(pz),
-                                  "time.viscous=\"" + scheme + "\""});
+    Config c = load_config(
+        file, {"parallel.px=" + std::to_string(px), "parallel.pz=" + std::to_string(pz),
+               "time.viscous=\"" + scheme + "\"", "particles.colour_fields=" + std::to_string(colours)});
     resolve_rank_grid(c, ranks);
     return c;
   };
   Config cs = make(1, 1, 1);
   FlowSolver serial(cs, MPI_COMM_SELF);
-  run_steps(serial, 6);
+  run_steps(serial, steps);
   std::vector<std::pair<int, int>> grids = {{n, 1}, {1, n}};
   for (auto [px, pz] : grids) {
     Config c = make(px, pz, n);
     FlowSolver par(c, MPI_COMM_WORLD);
-    run_steps(par, 6);
+    run_steps(par, steps);
     double worst = 0;
     for (auto f : {&FlowState::u, &FlowState::v, &FlowState::w, &FlowState::p})
       worst = std::max(worst, block_diff(par, par.state().*f, serial.state().*f));
@@ -96,10 +98,20 @@ TEST_P(RankGrids, SameSuspensionOnEveryRankGrid) {
       worst = std::max(worst, block_diff(par, par.solid()->fields().q[m], serial.solid()->fields().q[m]));
     worst = global_max(worst);
     if (world_rank() == 0)
-      std::printf("  suspension, %s viscosity, %d x %d ranks: max difference to 1 rank %.3e\n",
-                  scheme.c_str(), px, pz, worst);
+      std::printf("  suspension, %s viscosity, %d colours, %d x %d ranks: max difference to 1 rank %.3e\n",
+                  scheme.c_str(), colours, px, pz, worst);
     EXPECT_LT(worst, 1e-12) << px << " x " << pz;
   }
+}
+
+TEST_P(RankGrids, SameSuspensionOnEveryRankGrid) {
+  if (world_size() == 1) GTEST_SKIP() << "needs more than one rank";
+  same_suspension_on_every_rank_grid(GetParam(), 0, 6);
+}
+
+TEST_P(RankGrids, SameColouredSuspensionOnEveryRankGrid) {
+  if (world_size() == 1) GTEST_SKIP() << "needs more than one rank";
+  same_suspension_on_every_rank_grid(GetParam(), 32, 12);
 }
 
 INSTANTIATE_TEST_SUITE_P(Viscous, RankGrids, ::testing::Values("explicit", "implicit"));

@@ -127,4 +127,36 @@ got = (st.clusters(two, 0.5), st.clusters(wrapped, 0.5), st.clusters(walls, 0.5)
        st.clusters(bridged, 0.9))
 check("bodies of phi", got == (2, 1, 2, 1, 2), f"{got} (want (2, 1, 2, 1, 2))")
 
+# 8. Where the low-phi stress sits (`lowphi`): a sphere of radius 1 (phi = 1,
+#    B = I) at 4 cells per radius, with a thread of phi = 0.05 along +x from
+#    its surface (8 cells, centres at x = 1.125 ... 2.875: 1 within 1.25
+#    radii, 3 between 1.25 and 2, 4 beyond) and a detached 2x2x2 drop of
+#    phi = 0.05 at x = -5 (beyond 2). B_xy = 1 in those cells only, so they
+#    carry all the stress: shares 1/16, 3/16, 12/16 and 8/16 detached.
+import h5py  # noqa: E402
+
+with tempfile.TemporaryDirectory() as tmp:
+    run = write_run(os.path.join(tmp, "threads"), rows=41, strain_end=2.0)
+    n = (64, 40, 64)
+    c = [(np.arange(m) + 0.5) * 0.25 - L / 2 for m, L in zip(n, BOX)]  # cell centres, x y z
+    X, Y, Z = np.meshgrid(*c, indexing="ij")
+    phi = (X * X + Y * Y + Z * Z <= 1.0).astype(float)
+    bxy = np.zeros(n)
+    row = (np.abs(Y - 0.125) < 1e-9) & (np.abs(Z - 0.125) < 1e-9)
+    thread = row & (X > 1.0) & (X < 3.0)
+    drop = (np.abs(X + 5.0) < 0.25) & (np.abs(Y) < 0.25) & (np.abs(Z) < 0.25)
+    for m in (thread, drop):
+        phi[m] = 0.05
+        bxy[m] = 1.0
+    for name in ("fields_00000000.h5", "fields_00000400.h5"):
+        with h5py.File(os.path.join(run, name), "w") as h:  # stored z, y, x, as softflow writes
+            for key, v in (("phi", phi), ("Bxx", np.ones(n)), ("Bxy", bxy), ("Bxz", np.zeros(n)),
+                           ("Byy", np.ones(n)), ("Byz", np.zeros(n)), ("Bzz", np.ones(n))):
+                h[key] = v.transpose(2, 1, 0)
+    out = subprocess.run([sys.executable, SCRIPT, "lowphi", run], capture_output=True, text=True)
+    last = out.stdout.strip().splitlines()[-1].split("|")[1:-1] if out.stdout.strip() else []
+    got = [x.strip() for x in last]
+    want = ["threads", "2.0", "100.0%", "6.2%", "18.8%", "75.0%", "50.0%"]
+    check("low-phi stress by distance (thread, drop)", got[:7] == want, f"{got} (want {want} ...)" + out.stderr[-300:])
+
 finish()
