@@ -52,11 +52,12 @@ class ColourFields {
   // halo and wall ghosts (even reflection, as phi's) of the colours that
   // need them this step; the others' ghosts hold 0 (see begin_step)
   void fill_ghosts(Halo& halo, const Grid& g) const;
+  // flags of the x, y and z indices where each colour c is nonzero within
+  // its scan_[c], brought to the host in one copy (public only because
+  // nvcc rejects a device lambda in a private member function)
+  void scan_all(const Grid& g);
 
  private:
-  // flags of the x, y and z indices where each colour c is nonzero within
-  // its scan_[c], brought to the host in one copy
-  void scan_all(const Grid& g);
   // colour c's boxes from those flags, grown by m, within `within`
   ColourBoxes cover(const Grid& g, int c, int m, const Range3& within) const;
 
