@@ -45,18 +45,10 @@ int cover_intervals(const int* occ, int n, int m, bool circle, Interval out[2]) 
   return 2;
 }
 
-long ColourBoxes::cells() const {
-  long s = 0;
-  for (int b = 0; b < count; ++b) s += box[b].size();
-  return s;
-}
-
 ColourBoxes intersect(const ColourBoxes& b, const Range3& r) {
   ColourBoxes o;
   for (int q = 0; q < b.count; ++q) {
-    const Range3& x = b.box[q];
-    const Range3 c{std::max(x.ib, r.ib), std::min(x.ie, r.ie), std::max(x.jb, r.jb),
-                   std::min(x.je, r.je), std::max(x.kb, r.kb), std::min(x.ke, r.ke)};
+    const Range3 c = grown(b.box[q], 0, r);  // the box clipped to r
     if (!c.empty()) o.box[o.count++] = c;
   }
   return o;

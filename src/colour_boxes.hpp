@@ -37,7 +37,6 @@ int cover_intervals(const int* occ, int n, int m, bool circle, Interval out[2]);
 struct ColourBoxes {
   int count = 0;
   std::array<Range3, 4> box{};
-  long cells() const;
 };
 
 // occ holds three directions' flags one after the other (sx, sy, sz long)
