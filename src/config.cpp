@@ -290,8 +290,9 @@ Config parse_config(const std::string& text, const std::string& name,
                            std::to_string(p.volume_fraction) + ")");
         if (has_n) r.positive("count", p.count);
         r.read("placement", p.placement, false);
-        if (p.placement != "random" && p.placement != "centre")
-          throw InputError("'particles.placement' must be \"random\" or \"centre\"");
+        if (p.placement != "stratified" && p.placement != "random" && p.placement != "centre")
+          throw InputError("'particles.placement' must be \"stratified\", \"random\" or \"centre\" (got \"" +
+                           p.placement + "\")");
         // one sphere, given as count = 1 or by a volume fraction of one sphere in the box
         const double one =
             4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius / (c.grid.lx * c.grid.ly * c.grid.lz);

@@ -33,18 +33,18 @@ struct WallConfig {
 // The solid phase. Absent ([particles] not given): no phi, no B, no cost.
 struct ParticleConfig {
   bool enabled = false;
-  std::string shape = "spheres";     // "spheres", or "layer": a solid slab |y| < thickness / 2
-  Real radius = 1;                   // sphere radius r
-  Real volume_fraction = -1;         // Phi of the box, or
-  int count = -1;                    // the number of spheres (exactly one of the two)
-  std::string placement = "random";  // "random", or "centre" (one sphere at the box centre)
-  Real min_gap = 0.1;                // smallest surface-to-surface gap at seeding, also to the walls
-  unsigned long seed = 1;            // random placement seed
-  int subsamples = 8;                // sub-cell samples per direction for phi at interfaces
-  Real layer_thickness = 0;          // shape = "layer"
-  Real capillary = -1;               // Ca = mu_f gamma / G, or
-  Real shear_modulus = -1;           // G (exactly one of the two)
-  Real viscosity_ratio = 1;          // K = mu_s / mu_f
+  std::string shape = "spheres";         // "spheres", or "layer": a solid slab |y| < thickness / 2
+  Real radius = 1;                       // sphere radius r
+  Real volume_fraction = -1;             // Phi of the box, or
+  int count = -1;                        // the number of spheres (exactly one of the two)
+  std::string placement = "stratified";  // "stratified" (random, even across y), "random", or "centre"
+  Real min_gap = 0.1;                    // smallest surface-to-surface gap at seeding, also to the walls
+  unsigned long seed = 1;                // random placement seed
+  int subsamples = 8;                    // sub-cell samples per direction for phi at interfaces
+  Real layer_thickness = 0;              // shape = "layer"
+  Real capillary = -1;                   // Ca = mu_f gamma / G, or
+  Real shear_modulus = -1;               // G (exactly one of the two)
+  Real viscosity_ratio = 1;              // K = mu_s / mu_f
   // the solid phase's numerics (kernels/mthinc.hpp, kernels/solid_extension.hpp)
   std::string phi_scheme = "mthinc";  // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
   Real thinc_beta = 3.5;              // (M)THINC steepness: the interface spans about 2 / beta cells
