@@ -40,7 +40,9 @@ for r in $(seq 1 "$rounds"); do
     [ $v = issue ] && run_bin=$ref_bin
     case $v in thinc | thinc09) extra=(--set particles.phi_scheme=thinc) ;; esac
     case $v in thinc | mthinc05) extra+=(--set particles.b_solid_phi=0.5) ;; esac
+    # independent draws: the placement the issue-time code knows (and the baselines')
     scripts/toolchain.sh run "$run_bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
+      --set 'particles.placement="random"' \
       ${extra[@]+"${extra[@]}"} --warmup 3 --steps 5 --reps 5 --json "$out/${v}_$r.json" >/dev/null
     echo "solid_cost: round $r $v done" >&2
   done

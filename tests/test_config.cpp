@@ -98,6 +98,9 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
                "'particles.b_solid_phi' must be in [0.5, 0.99]");
   expect_error(error_of(good, with("particles.thinc_beta=20")),
                "'particles.thinc_beta' must be in [0.5, 10]");
+  expect_error(
+      error_of(good, {"particles.radius=0.2", "particles.count=3", "particles.placement=\"lattice\""}),
+      "'particles.placement' must be \"stratified\", \"random\" or \"centre\" (got \"lattice\")");
 }
 
 TEST(Config, WrongTypesAreRejected) {
