@@ -33,7 +33,12 @@ check, per run:
   drift per 40 strain units and its standard error; "drifts" where it is
   beyond 2 standard errors (a trend the noise does not explain), whatever
   its size. A run that passes with a quantity that drifts is not shown
-  stationary beyond w2 (results/README.md, round 13).
+  stationary beyond w2 (results/README.md, round 13). For many particles
+  the same trend of where the solid sits across the gap, <|y|> / r (the
+  phi-weighted mean distance from mid-gap, profiles_series.csv): a
+  suspension still migrating away from the walls (or, from a lopsided start,
+  across the gap) is not stationary, whatever the windows say, and its mu
+  moves with it (results/README.md, round 21).
 lowphi RUN_DIR... [--box LX,LY,LZ]: where the elastic shear stress of the
 phi < 0.1 cells of one particle sits, per field snapshot (runs written with
 output.fields_every > 0). Distances are in radii of the ellipsoid of its
@@ -142,6 +147,7 @@ class Run:
         self.phi = float(self.series[0]["solid_volume"]) / vol  # conserved; a blown-up run's last row is not
         self.dilute = self.phi < 0.01
         self.mu_name = "[mu]" if self.dilute else "mu/mu_f"
+        self.spread = [] if self.dilute else solid_spread(folder)
 
     def strain(self, rows):
         return [float(r["strain"]) for r in rows]
@@ -160,6 +166,8 @@ class Run:
         for col, label in TREND_SHAPE:
             have = [r for r in parts if r.get(col) not in (None, "")]
             cols.append((label, self.strain(have), [float(r[col]) for r in have]))
+        spread = [(x, v) for x, v in self.spread if lo <= x < hi]
+        cols.append((SPREAD, [x for x, _ in spread], [v for _, v in spread]))
         for label, x, v in cols:
             if len(v) < 20:
                 continue
@@ -179,6 +187,26 @@ class Run:
         tb = present(rows, "taylor_b_mean")
         tb = batch_mean(tb) if len(tb) >= 20 else None
         return batch_mean(mu), batch_mean([float(r["taylor_mean"]) for r in rows]), tb
+
+
+SPREAD = "solid mean abs(y)"
+
+
+def solid_spread(folder):
+    """[(strain, <|y|>)]: the phi-weighted mean distance of the solid from
+    mid-gap at each profiles row (empty without profiles_series.csv)."""
+    path = os.path.join(folder, "profiles_series.csv")
+    if not os.path.exists(path):
+        return []
+    acc = {}
+    for r in csv.DictReader(open(path)):
+        if r["y_centre"] in ("", None):  # the wall faces' row
+            continue
+        a = acc.setdefault(float(r["strain"]), [0.0, 0.0])
+        phi = float(r["phi_mean"])
+        a[0] += phi * abs(float(r["y_centre"]))
+        a[1] += phi
+    return [(x, a[0] / a[1]) for x, a in sorted(acc.items()) if a[1] > 0]
 
 
 def present(rows, name):
@@ -265,7 +293,7 @@ def markdown(results, windows):
     lines += ["", f"Linear trends over [{w[0]:g}, {w[2]:g}) (not a condition of the issue's): each quantity's fitted"
               f" change per {TREND_SPAN} strain units, relative to its mean, ± one standard error (10 batch means);"
               " 'drifts' where beyond 2 standard errors.", ""]
-    labels = ["mu"] + [label for _, label in TREND_SHAPE]
+    labels = ["mu"] + [label for _, label in TREND_SHAPE] + [SPREAD]
     lines += ["| run | " + " | ".join(labels) + " |", "|" + "---|" * (len(labels) + 1)]
     for r in results:
         cells = []

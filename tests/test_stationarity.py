@@ -5,6 +5,7 @@ shows no trend; a run that climbs by 1.6% over strain [10, 50) passes the
 window test (its windows differ by 0.8%, under the 1% bound) and its trend
 is reported as a drift of 1.6% per 40 strain units; det B out of [0.97,
 1.03], the stress in low-phi cells and a volume change each fail the run;
+the trend of where a suspension's solid sits across the gap (profiles);
 and the count of phi's connected bodies that the shape report gives.
 Exits non-zero if any check failed."""
 import csv
@@ -105,6 +106,31 @@ with tempfile.TemporaryDirectory() as tmp:
     check("exit codes", ok.returncode == 0 and bad.returncode == 1, f"{ok.returncode}, {bad.returncode}")
     check("trend table printed", "Linear trends over [10, 50)" in ok.stdout and "| steady |" in ok.stdout,
           ok.stdout.splitlines()[-1] if ok.stdout else ok.stderr)
+
+    # 6b. Where the solid sits across the gap (a dense run's profiles): a
+    #    share w of the solid at |y| = 2 and the rest at |y| = 0.5, with w
+    #    falling linearly from 0.5 at strain 10 to 0.25 at 50, so mean |y| =
+    #    0.5 + 1.5 w goes 1.25 -> 0.875: -0.375 over [10, 50), relative to the
+    #    mean of the rows at strain 10, 10.25 ... 49.75 (1.06367), -35.25% per
+    #    40, read exactly from noise-free profiles.
+    dense_vol = 0.11 * BOX[0] * BOX[1] * BOX[2]
+    run = write_run(os.path.join(tmp, "migrating"), volume=lambda s: dense_vol)
+    with open(os.path.join(run, "profiles_series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["step", "strain", "row", "y_centre", "phi_mean"])
+        for i in range(201):
+            strain = 0.25 * i
+            share = 0.5 - 0.25 * min(max(strain - 10, 0), 40) / 40
+            for k, (yc, ph) in enumerate(((-2, share / 2), (-0.5, (1 - share) / 2), (0.5, (1 - share) / 2),
+                                          (2, share / 2))):
+                w.writerow([i, strain, k, yc, ph])
+            w.writerow([i, strain, 4, "", ""])  # the wall faces' row
+    spread = st.solid_spread(run)
+    check("solid spread read", abs(spread[0][1] - 1.25) < 1e-12 and abs(spread[-1][1] - 0.875) < 1e-12,
+          f"{spread[0]}, {spread[-1]}")
+    t = run_check(run)["trends"][st.SPREAD]
+    want = -0.375 / (0.5 + 1.5 * (0.5 - 0.25 * (29.875 - 10) / 40))
+    check("migration trend", abs(t[0] - want) < 1e-9, f"{100 * t[0]:+.3f}% per 40 (want {100 * want:+.3f}%)")
 
 # 7. Bodies of phi (the shape report's fusion count): two balls apart are
 #    two; one cut by the periodic x boundary is one; two touching only
