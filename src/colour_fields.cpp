@@ -19,9 +19,15 @@ ColourFields::ColourFields(const Grid& g, int n)
     before_.emplace_back("colour_rhs_before_" + s, g.sx(), g.sy(), g.sz());
   }
   step_.assign(n, single_box(g.interior()));
+  update_.assign(n, single_box(g.interior()));  // until the first stage's boxes are known
+  active_.assign(n, ColourBoxes{});
+  wall_reads_.assign(n, single_box(g.all()));
   scan_.assign(n, ColourBoxes{});
-  near_edge_.assign(n, 1);  // until the first step's boxes are known
-  sums_.assign(2 * std::size_t(n), 0);
+  near_halo_.assign(n, 1);
+  near_wall_.assign(n, 1);
+  sums_.assign(4 * std::size_t(n), 0);
+  occ_last_.assign(std::size_t(n) * stride_, 0);
+  occ_both_.assign(stride_, 0);
   ghost_list_.reserve(n);
 }
 
@@ -51,74 +57,108 @@ ColourBoxes ColourFields::cover(const Grid& g, int c, int m, const Range3& withi
 }
 
 // Where to look for each colour: with x and z whole on this rank, nothing
-// enters from elsewhere, so the last step's boxes hold its interior cells
-// (its ghosts are copies of them, which the seam cover ignores); otherwise
-// the whole storage, as a neighbour's particle can enter this rank's ghosts.
-//
-// Whose ghosts to fill: a colour whose step boxes, grown by the 3 cells of
-// the stencil, stay inside the interior of every rank never reads its ghosts
-// this step, and holds 0 in the interior cells next to the edges (its
-// support is 12 cells in), so its ghosts, filled when it last came near an
-// edge, hold 0 and stay right. Filling only the others saves most of the
-// halo copies of a dense box (one colour per particle).
-void ColourFields::begin_step(const Grid& g, const Range3& region, MPI_Comm comm) {
+// enters from elsewhere, so the last stage's update boxes hold it (its
+// ghosts are copies of its interior cells, which the seam cover ignores);
+// otherwise the whole storage, as a neighbour's particle can enter this
+// rank's ghosts.
+void ColourFields::begin_step(const Grid& g, const Range3& region) {
   const bool whole = g.nxl == g.nx && g.nzl == g.nz;
-  const Range3 in = g.interior();
-  for (int c = 0; c < size(); ++c) scan_[c] = whole ? step_[c] : single_box(g.all());
+  for (int c = 0; c < size(); ++c) scan_[c] = whole ? update_[c] : single_box(g.all());
   scan_all(g);
-  for (int c = 0; c < size(); ++c) {
-    step_[c] = cover(g, c, solid_region_margin, region);
-    near_edge_[c] = 0;
-    for (int b = 0; b < step_[c].count; ++b) {
-      const Range3 r = grown(step_[c].box[b], 3, g.all());
-      near_edge_[c] |=
-          r.ib < in.ib || r.ie > in.ie || r.jb < in.jb || r.je > in.je || r.kb < in.kb || r.ke > in.ke;
-    }
-  }
-  if (size() > 0) MPI_Allreduce(MPI_IN_PLACE, near_edge_.data(), size(), MPI_INT, MPI_MAX, comm);
+  for (int c = 0; c < size(); ++c) step_[c] = cover(g, c, solid_region_margin, region);
 }
 
-// Each colour holds one particle (or a few), so its work is confined to its
-// own boxes instead of the whole solid region: the right-hand side to the
-// colour's support grown by 3 cells (as phi's `active`; a tenth of a dense
-// box at 4 points per radius), the update and the redistribution to the
-// step's boxes (its support at the step's start grown by the solid region's
-// margin, which hold every stage's support). The support is looked for
-// within the step's boxes, grown by 3 where x or z is split over ranks (a
-// neighbour's cells in the ghosts the stencil reads).
-// All of it is a function of the state alone, so a restarted run repeats
-// the sums bit for bit. The stage-0 update reads the last step's r_before
-// times zeta_0 = 0 (RK3), which adds nothing.
+// Each colour holds one particle (or a few), so its work is confined to
+// boxes about its own support S (the cells where it is nonzero at the
+// stage's start), a few cells wider than the particle:
+//   - the right-hand side on S grown by the scheme's reach (THINC and MTHINC
+//     take a face's value from its upwind cell alone, so -div(u c) vanishes
+//     beyond 1 cell of S; WENO5's stencil reaches 3);
+//   - c += gdt r_now on those cells, and c += zdt r_before on the previous
+//     stage's (RK3's zeta_0 = 0: none at a step's first stage);
+//   - the bounded redistribution, and later the sum into phi, on the update
+//     boxes: S and the previous stage's support, grown by the reach, which
+//     hold every cell the stage changed and the support it leaves.
+// Where x or z is split over ranks the support is looked for in the step's
+// boxes grown by 3 (a neighbour's cells in the ghosts the stencil reads), as
+// begin_step's full scan may have missed nothing else.
+// Whose ghosts to fill after the stage: on a rank that holds x and z whole, a
+// colour whose update boxes, grown by what the next stage reads around them
+// (the reach, and the reconstruction's stencil beyond), stay inside the
+// interior never reads its ghosts in that stage (the next stage's support
+// lies in those boxes, and its scans stay in the interior), so stale ghosts
+// are never read. Split ranks scan the step's boxes grown by 3 into the
+// ghosts: there the colours whose step boxes, grown by 3, reach some rank's
+// edge are filled; the others hold 0 in every cell their ghosts copy (their
+// support is 12 cells in, and it was so when they were last filled). The
+// others' are not filled (fill_ghosts).
+// All of it is a function of the state alone (the previous stage's support
+// enters only after a step's first stage), so a restarted run repeats the
+// sums bit for bit.
 void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux,
                                  const PhiScheme& scheme, Real gdt, Real zdt,
                                  const std::function<void(Real*, int)>& allreduce_sum) {
-  const bool whole = g.nxl == g.nx && g.nzl == g.nz;
+  const bool whole = g.nxl == g.nx && g.nzl == g.nz, first_stage = zdt == 0;
+  const int reach = scheme.thinc() ? 1 : 3, reads = reach + (scheme.thinc() ? 2 : 3);
   for (int c = 0; c < size(); ++c) {
-    scan_[c] = step_[c];  // ghosts matter only in a direction split over ranks
+    scan_[c] = whole ? update_[c] : step_[c];
     if (!whole)
       for (int b = 0; b < scan_[c].count; ++b) scan_[c].box[b] = grown(scan_[c].box[b], 3, g.all());
   }
   scan_all(g);
-  for (int c = 0; c < size(); ++c) {
+  const Range3 in = g.interior();
+  const int n = size();
+  for (int c = 0; c < n; ++c) {
     const Field3 q = c_[c], r = now_[c], rb = before_[c];
     const ColourBoxes& step = step_[c];
-    const ColourBoxes active = intersect(cover(g, c, 3, g.interior()), step);
-    for (int b = 0; b < step.count; ++b)
+    const int* flags = occ_host_.data() + std::size_t(c) * stride_;
+    const ColourBoxes active = intersect(cover_boxes(g, flags, reach, in), step);
+    // the update boxes: this stage's support and the last's, grown by the reach
+    if (!first_stage) {
+      const int* last = occ_last_.data() + std::size_t(c) * stride_;
+      for (std::size_t s = 0; s < stride_; ++s) occ_both_[s] = flags[s] | last[s];
+      flags = occ_both_.data();
+    }
+    update_[c] = intersect(cover_boxes(g, flags, reach, in), step);
+    for (int a = 0; a < active.count; ++a) {
+      phi_transport_rhs(g, flow, q, r, flux, active.box[a], scheme);
       par_for(
-          "colour_rhs_clear", step.box[b], KOKKOS_LAMBDA(int i, int j, int k) { r(i, j, k) = 0; });
-    for (int a = 0; a < active.count; ++a) phi_transport_rhs(g, flow, q, r, flux, active.box[a], scheme);
-    for (int b = 0; b < step.count; ++b)
-      par_for(
-          "colour_rk3_update", step.box[b],
-          KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += gdt * r(i, j, k) + zdt * rb(i, j, k); });
-    phi_redistribution_sums(q, step.box.data(), step.count, &sums_[2 * c]);
+          "colour_rk3_update", active.box[a],
+          KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += gdt * r(i, j, k); });
+    }
+    if (!first_stage)
+      for (int a = 0; a < active_[c].count; ++a)
+        par_for(
+            "colour_rk3_update_before", active_[c].box[a],
+            KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += zdt * rb(i, j, k); });
+    active_[c] = active;
+    phi_redistribution_sums(q, update_[c].box.data(), update_[c].count, &sums_[2 * c]);
+    // split ranks scan the step's boxes grown by 3, ghosts included, so
+    // their ghosts must hold the truth wherever those boxes reach
+    const ColourBoxes& reads_from = whole ? update_[c] : step;
+    const int around = whole ? reads : 3;
+    int halo = 0, wall = 0;
+    for (int b = 0; b < reads_from.count; ++b) {
+      const Range3 e = grown(reads_from.box[b], around, g.all());
+      halo |= e.ib < in.ib || e.ie > in.ie || e.kb < in.kb || e.ke > in.ke;
+      wall |= e.jb < in.jb || e.je > in.je;
+    }
+    wall_reads_[c] = reads_from;
+    for (int b = 0; b < reads_from.count; ++b)
+      wall_reads_[c].box[b] = grown(reads_from.box[b], around, g.all());
+    sums_[2 * n + c] = halo;
+    sums_[3 * n + c] = wall;
     std::swap(now_[c], before_[c]);
   }
-  // every colour's redistribution sums in one collective (every rank, empty
-  // boxes or not)
-  if (size() > 0) allreduce_sum(sums_.data(), 2 * size());
-  for (int c = 0; c < size(); ++c)
-    phi_redistribute(c_[c], &sums_[2 * c], step_[c].box.data(), step_[c].count);
+  std::copy(occ_host_.data(), occ_host_.data() + occ_last_.size(), occ_last_.begin());
+  // every colour's redistribution sums and near-edge flags in one
+  // collective (every rank, empty boxes or not)
+  if (n > 0) allreduce_sum(sums_.data(), 4 * n);
+  for (int c = 0; c < n; ++c) {
+    phi_redistribute(c_[c], &sums_[2 * c], update_[c].box.data(), update_[c].count);
+    near_halo_[c] = sums_[2 * n + c] > 0;
+    near_wall_[c] = sums_[3 * n + c] > 0;
+  }
 }
 
 void ColourFields::sum_into(const Field3& phi, const Range3& where) const {
@@ -126,7 +166,7 @@ void ColourFields::sum_into(const Field3& phi, const Range3& where) const {
       "colour_sum_clear", where, KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = 0; });
   for (int c = 0; c < size(); ++c) {
     const Field3 q = c_[c];
-    const ColourBoxes on = intersect(step_[c], where);
+    const ColourBoxes on = intersect(update_[c], where);
     for (int b = 0; b < on.count; ++b)
       par_for(
           "colour_sum", on.box[b], KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) += q(i, j, k); });
@@ -136,17 +176,25 @@ void ColourFields::sum_into(const Field3& phi, const Range3& where) const {
 void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
   ghost_list_.clear();
   for (int c = 0; c < size(); ++c)
-    if (near_edge_[c]) ghost_list_.push_back(c_[c]);  // the same list on every rank
+    if (near_halo_[c]) ghost_list_.push_back(c_[c]);  // the same list on every rank
   const int n = int(ghost_list_.size());
   for (int c = 0; c < n; c += Halo::max_fields)
     halo.exchange(ghost_list_.data() + c, std::min(n - c, Halo::max_fields));
+  // the wall ghosts (y) after the halo's, over the x-z extent the next stage
+  // can read (the whole plane until the first stage's boxes are known)
   const int ng = Grid::ng, ny = g.ny;
-  for (const Field3& a : ghost_list_)
-    par_for(
-        "walls_colour", Range3{0, g.sx(), 0, ng, 0, g.sz()}, KOKKOS_LAMBDA(int i, int m, int k) {
-          a(i, ng - 1 - m, k) = a(i, ng + m, k);
-          a(i, ng + ny + m, k) = a(i, ng + ny - 1 - m, k);
-        });
+  for (int c = 0; c < size(); ++c) {
+    if (!near_wall_[c]) continue;
+    const Field3 a = c_[c];
+    for (int b = 0; b < wall_reads_[c].count; ++b) {
+      const Range3& r = wall_reads_[c].box[b];
+      par_for(
+          "walls_colour", Range3{r.ib, r.ie, 0, ng, r.kb, r.ke}, KOKKOS_LAMBDA(int i, int m, int k) {
+            a(i, ng - 1 - m, k) = a(i, ng + m, k);
+            a(i, ng + ny + m, k) = a(i, ng + ny - 1 - m, k);
+          });
+    }
+  }
 }
 
 }  // namespace softflow

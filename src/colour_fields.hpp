@@ -34,23 +34,26 @@ class ColourFields {
   const Field3& colour(int c) const { return c_[c]; }
   // where colour c can be during this step (src/colour_boxes.hpp)
   const ColourBoxes& step_boxes(int c) const { return step_[c]; }
+  // where the last stage updated colour c (it is 0 outside them)
+  const ColourBoxes& update_boxes(int c) const { return update_[c]; }
 
   // before each step: the boxes each colour can reach in it (within
-  // `region`, the solid's: kernels/solid_region.hpp), and which colours
-  // come near enough to an edge of some rank's interior to need their ghosts
-  // filled in it (collective over comm)
-  void begin_step(const Grid& g, const Range3& region, MPI_Comm comm);
+  // `region`, the solid's: kernels/solid_region.hpp)
+  void begin_step(const Grid& g, const Range3& region);
   // one RK3 stage of every colour: -div(u c) by the phi scheme on the
-  // colour's support grown by 3 cells, c += gdt r_now + zdt r_before, then
-  // the bounded redistribution (kernels/solid_transport.hpp), all on the
-  // colour's step boxes. `flux` is the transport's scratch, free on entry.
+  // colour's support grown by the scheme's reach, c += gdt r_now +
+  // zdt r_before, then the bounded redistribution
+  // (kernels/solid_transport.hpp), on boxes about its support (the .cpp
+  // says which); also which colours come near enough to an edge of some
+  // rank's interior to need their ghosts filled (the sums' collective).
+  // `flux` is the transport's scratch, free on entry.
   void advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux, const PhiScheme& scheme,
                      Real gdt, Real zdt, const std::function<void(Real*, int)>& allreduce_sum);
-  // phi = sum of the colours on `where` (each colour added on its step
-  // boxes, outside which it is 0)
+  // phi = sum of the colours on `where` (each colour added on its last
+  // update boxes, outside which it is 0)
   void sum_into(const Field3& phi, const Range3& where) const;
   // halo and wall ghosts (even reflection, as phi's) of the colours that
-  // need them this step; the others' ghosts hold 0 (see begin_step)
+  // need them in the next stage; the others' are not read (advance_stage)
   void fill_ghosts(Halo& halo, const Grid& g) const;
   // flags of the x, y and z indices where each colour c is nonzero within
   // its scan_[c], brought to the host in one copy (public only because
@@ -62,13 +65,19 @@ class ColourFields {
   ColourBoxes cover(const Grid& g, int c, int m, const Range3& within) const;
 
   std::vector<Field3> c_, now_, before_;
-  std::vector<ColourBoxes> step_;  // where each colour can be during this step
-  std::vector<ColourBoxes> scan_;  // where scan_all looks for it
-  std::size_t stride_ = 0;         // one colour's flags: sx + sy + sz
+  std::vector<ColourBoxes> step_;    // where each colour can be during this step
+  std::vector<ColourBoxes> update_;  // where the last stage updated it (holds its support)
+  std::vector<ColourBoxes> active_;  // where the last stage's right-hand side was computed
+  std::vector<ColourBoxes> scan_;    // where scan_all looks for it
+  std::size_t stride_ = 0;           // one colour's flags: sx + sy + sz
   Kokkos::View<int*, MemSpace> occ_;
   Kokkos::View<int*, MemSpace>::host_mirror_type occ_host_;
-  std::vector<int> near_edge_;  // 1: its ghosts are filled this step
-  std::vector<Real> sums_;      // each colour's redistribution sums {e, W}
+  std::vector<int> occ_last_;            // the flags of the last stage's scan (host)
+  std::vector<int> occ_both_;            // scratch: one colour's flags or'd with the last stage's
+  std::vector<int> near_halo_;           // 1: its halo (x, z) ghosts are filled after the stage
+  std::vector<int> near_wall_;           // 1: its wall (y) ghosts are, over wall_reads_
+  std::vector<ColourBoxes> wall_reads_;  // the boxes it can read in the next stage
+  std::vector<Real> sums_;               // each colour's redistribution sums {e, W}, then its two near flags
   mutable std::vector<Field3> ghost_list_;
 };
 

@@ -172,8 +172,10 @@ TEST(ColourBoxes, CoverIntervals) {
 // are split at the seam and span the particle grown by the step's margin
 // (phi's support, ~15 cells at 4 points per radius with MTHINC's tails, plus
 // 2 x 9: ~33 cells), not the box's whole length (96 cells, what one bounding
-// box across the seam spans); after half a strain unit it has moved as phi does without colours (1e-12:
-// only the order of the redistribution's sums differs)
+// box across the seam spans), and each stage's work spans the particle
+// grown by 1 (MTHINC's reach); after half a strain unit it has moved as phi
+// does without colours (1e-12: only the order of the redistribution's sums
+// differs)
 TEST(ColourFields, ParticleAcrossTheSeamCostsItsSize) {
   auto one_particle = [](int colours, unsigned long seed) {
     Config c =
@@ -198,25 +200,49 @@ TEST(ColourFields, ParticleAcrossTheSeamCostsItsSize) {
   const double v0 = field_sum(g, coloured.solid()->colours().colour(0));
   run_to(plain, 0.5);
   run_to(coloured, 0.5);
-  const ColourBoxes& b = coloured.solid()->colours().step_boxes(0);
-  // the x and z lengths the boxes cover (split boxes: the seam's two sides)
-  int lx = 0, lz = 0;
-  for (int q = 0; q < b.count; ++q) {
-    bool new_x = true, new_z = true;
-    for (int p = 0; p < q; ++p) {
-      new_x = new_x && (b.box[p].ib != b.box[q].ib);
-      new_z = new_z && (b.box[p].kb != b.box[q].kb);
+  // the x and z lengths boxes cover (split boxes: the seam's two sides)
+  auto lengths = [](const ColourBoxes& b) {
+    int lx = 0, lz = 0;
+    for (int q = 0; q < b.count; ++q) {
+      bool new_x = true, new_z = true;
+      for (int p = 0; p < q; ++p) {
+        new_x = new_x && (b.box[p].ib != b.box[q].ib);
+        new_z = new_z && (b.box[p].kb != b.box[q].kb);
+      }
+      if (new_x) lx += b.box[q].ie - b.box[q].ib;
+      if (new_z) lz += b.box[q].ke - b.box[q].kb;
     }
-    if (new_x) lx += b.box[q].ie - b.box[q].ib;
-    if (new_z) lz += b.box[q].ke - b.box[q].kb;
-  }
-  lx = int(global_max(lx));
-  lz = int(global_max(lz));
+    return std::array<int, 2>{int(global_max(lx)), int(global_max(lz))};
+  };
+  const ColourFields& cf = coloured.solid()->colours();
+  const ColourBoxes& b = cf.step_boxes(0);
+  const auto [lx, lz] = lengths(b);
+  const auto [ux, uz] = lengths(cf.update_boxes(0));
   if (world_rank() == 0)
-    std::printf("  seed %lu: %d step boxes, x and z lengths %d and %d of %d\n", seed, b.count, lx, lz, g.nx);
+    std::printf(
+        "  seed %lu: %d step boxes, x and z lengths %d and %d of %d; last stage's update boxes %d and %d\n",
+        seed, b.count, lx, lz, g.nx, ux, uz);
   EXPECT_LE(lx, g.nx / 2);
   EXPECT_LE(lz, g.nz / 2);
   if (g.nxl == g.nx && g.nzl == g.nz) EXPECT_GE(b.count, 2);  // one rank: x and z are circles
+  // the update boxes (the support at the last stage's start and the one
+  // before, grown by MTHINC's reach of 1) are the step's less its margin of
+  // 9 a side, plus at most 2 stages' motion of 1 cell a side: at least 12
+  // cells shorter. They hold the whole colour (phi = the colours summed there).
+  if (g.nxl == g.nx && g.nzl == g.nz) {
+    EXPECT_LE(ux, lx - 12);
+    EXPECT_LE(uz, lz - 12);
+  }
+  double inside = 0;
+  for (int q = 0; q < cf.update_boxes(0).count; ++q) {
+    const Field3 c = cf.colour(0);
+    double part = 0;
+    par_reduce(
+        "test_update_box_sum", cf.update_boxes(0).box[q],
+        KOKKOS_LAMBDA(int i, int j, int k, double& a) { a += c(i, j, k); }, Kokkos::Sum<double>(part));
+    inside += part;
+  }
+  EXPECT_NEAR(global_sum(inside) / field_sum(g, cf.colour(0)), 1.0, 1e-14);
   EXPECT_NEAR(field_sum(g, coloured.solid()->colours().colour(0)) / v0, 1.0, 1e-12);
   ASSERT_EQ(plain.step, coloured.step);
   EXPECT_LT(
