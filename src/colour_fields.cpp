@@ -138,14 +138,13 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
     const ColourBoxes& reads_from = whole ? update_[c] : step;
     const int around = whole ? reads : 3;
     int halo = 0, wall = 0;
+    wall_reads_[c] = reads_from;
     for (int b = 0; b < reads_from.count; ++b) {
       const Range3 e = grown(reads_from.box[b], around, g.all());
       halo |= e.ib < in.ib || e.ie > in.ie || e.kb < in.kb || e.ke > in.ke;
       wall |= e.jb < in.jb || e.je > in.je;
+      wall_reads_[c].box[b] = e;
     }
-    wall_reads_[c] = reads_from;
-    for (int b = 0; b < reads_from.count; ++b)
-      wall_reads_[c].box[b] = grown(reads_from.box[b], around, g.all());
     sums_[2 * n + c] = halo;
     sums_[3 * n + c] = wall;
     std::swap(now_[c], before_[c]);
