@@ -80,8 +80,8 @@ void ColourFields::begin_step(const Grid& g, const Range3& region) {
 //     boxes: S and the previous stage's support, grown by the reach, which
 //     hold every cell the stage changed and the support it leaves.
 // Where x or z is split over ranks the support is looked for in the step's
-// boxes grown by 3 (a neighbour's cells in the ghosts the stencil reads), as
-// begin_step's full scan may have missed nothing else.
+// boxes grown by 3 instead (a neighbour's cells can enter the ghosts the
+// stencil reads; begin_step scanned the whole storage for them).
 // Whose ghosts to fill after the stage: on a rank that holds x and z whole, a
 // colour whose update boxes, grown by what the next stage reads around them
 // (the reach, and the reconstruction's stencil beyond), stay inside the
