@@ -10,7 +10,8 @@
 # was filed, commit REFERENCE, default cb87e6d, with its own defaults: the
 # issue's "today's" step; built once into build-reference/), thinc (THINC
 # phi, b_solid_phi 0.5: the default until round 15), thinc09 (THINC, 0.9),
-# mthinc05 (MTHINC, 0.5).
+# mthinc05 (MTHINC, 0.5), colours (the default numerics with one colour field
+# per particle, particles.colour_fields = 67).
 #   perf/solid_cost.sh                      # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
 #   VARIANTS="issue old new" perf/solid_cost.sh
 # Environment: ROUNDS (default 3), VARIANTS (default "old new"),
@@ -40,6 +41,7 @@ for r in $(seq 1 "$rounds"); do
     [ $v = issue ] && run_bin=$ref_bin
     case $v in thinc | thinc09) extra=(--set particles.phi_scheme=thinc) ;; esac
     case $v in thinc | mthinc05) extra+=(--set particles.b_solid_phi=0.5) ;; esac
+    [ $v = colours ] && extra=(--set particles.colour_fields=67)
     # independent draws: the placement the issue-time code knows (and the baselines')
     scripts/toolchain.sh run "$run_bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       --set 'particles.placement="random"' \
@@ -56,7 +58,7 @@ def kern(v, r):
     k = json.load(open(f"{out}/{v}_{r}.json"))["kernels"]
     return {n: d["seconds_per_step"]["median"] for n, d in k.items() if "solid" in n}
 names = {"old": "old", "new": "default (MTHINC, 0.9)", "thinc": "THINC, 0.5", "thinc09": "THINC, 0.9",
-         "mthinc05": "MTHINC, 0.5", "issue": "issue-time code"}
+         "mthinc05": "MTHINC, 0.5", "colours": "default, 67 colours", "issue": "issue-time code"}
 steps = {v: [step(v, r) for r in range(1, rounds + 1)] for v in variants}
 # each variant against the old numerics and, when it ran, the issue-time code
 refs = [b for b in ("old", "issue") if b in variants]

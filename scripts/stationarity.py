@@ -4,6 +4,7 @@ issue 12, from a run folder's series.csv, particles.csv and summary.json.
 
   scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--md OUT.md]
   scripts/stationarity.py lowphi RUN_DIR... [--box LX,LY,LZ]
+  scripts/stationarity.py windows RUN_DIR... [--width 10] [--box LX,LY,LZ]
   scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ... [--labels NEW,OLD] [--theory CA[:K]]
   (a run without a summary.json yet, or one that blew up: DIR@LXxLYxLZ gives its box)
 
@@ -49,6 +50,10 @@ beyond 2, and in cells not connected to the particle (phi > 1e-3 bodies
 other than the largest); the solid volume beyond 1.25; the 0.1 <= phi < 0.5
 band's share. Solid drawn out as threads that stay attached shows beyond
 1.25 and connected; shed drops show as detached.
+windows RUN_DIR... [--width W]: per consecutive strain window of width W
+(default 10) the means of mu (or [mu]), T and T of B, and for dense runs where the solid sits across the gap (<|y|> / r and
+its share within one radius of a wall): how a run settles, and whether its
+mu follows the particles' migration.
 figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
 old scheme's run of the same case) beside it; --theory adds the exact
 dilute theory's own start-up from a sphere at that Ca (and K, default 1),
@@ -192,9 +197,11 @@ class Run:
 SPREAD = "solid mean abs(y)"
 
 
-def solid_spread(folder):
-    """[(strain, <|y|>)]: the phi-weighted mean distance of the solid from
-    mid-gap at each profiles row (empty without profiles_series.csv)."""
+def solid_across_gap(folder, half_gap):
+    """[(strain, <|y|>, wall share)] at each profiles row: the phi-weighted
+    mean distance of the solid from mid-gap, and the share of the solid in
+    rows whose centre lies within one radius (1 in the run's lengths) of a
+    wall at |y| = half_gap (empty without profiles_series.csv)."""
     path = os.path.join(folder, "profiles_series.csv")
     if not os.path.exists(path):
         return []
@@ -202,11 +209,17 @@ def solid_spread(folder):
     for r in csv.DictReader(open(path)):
         if r["y_centre"] in ("", None):  # the wall faces' row
             continue
-        a = acc.setdefault(float(r["strain"]), [0.0, 0.0])
-        phi = float(r["phi_mean"])
-        a[0] += phi * abs(float(r["y_centre"]))
+        a = acc.setdefault(float(r["strain"]), [0.0, 0.0, 0.0])
+        phi, y = float(r["phi_mean"]), abs(float(r["y_centre"]))
+        a[0] += phi * y
         a[1] += phi
-    return [(x, a[0] / a[1]) for x, a in sorted(acc.items()) if a[1] > 0]
+        a[2] += phi * (y > half_gap - 1)
+    return [(x, a[0] / a[1], a[2] / a[1]) for x, a in sorted(acc.items()) if a[1] > 0]
+
+
+def solid_spread(folder, half_gap=math.inf):
+    """[(strain, <|y|>)] (solid_across_gap's)."""
+    return [(x, y) for x, y, _ in solid_across_gap(folder, half_gap)]
 
 
 def present(rows, name):
@@ -265,6 +278,41 @@ def check(run, windows):
     out["mu_name"] = run.mu_name
     out["wall_per_strain"] = run.wall_seconds / max(reached, 1e-9)
     return out
+
+
+def window_means(run, width):
+    """Consecutive strain windows [0, w), [w, 2w), ... up to the run's end:
+    per window the mean of mu (or [mu]), T and T of B, and for dense runs
+    the solid's <|y|> and its share within one radius of a wall. Means only:
+    the evidence that a run has settled is that the late windows agree."""
+    reached = float(run.series[-1]["strain"])
+    across = solid_across_gap(run.folder, run.box[1] / 2) if not run.dilute else []
+    mean = lambda v: sum(v) / len(v) if v else math.nan  # noqa: E731
+    out, lo = [], 0.0
+    while lo < reached - 1e-9:
+        hi = lo + width
+        inside = lambda x: lo <= x < hi  # noqa: E731
+        parts = [r for r in run.particles if inside(float(r["strain"]))]
+        gap = [(y, w) for x, y, w in across if inside(x)]
+        out.append({"from": lo, "to": min(hi, reached),
+                    "mu": mean([run.mu(r) for r in run.series if int(r["step"]) > 0 and inside(float(r["strain"]))]),
+                    "T": mean([float(r["taylor_mean"]) for r in parts]),
+                    "T_B": mean(present(parts, "taylor_b_mean")),
+                    "abs_y": mean([y for y, _ in gap]), "wall": mean([w for _, w in gap])})
+        lo = hi
+    return out
+
+
+def windows_markdown(run, rows):
+    nan = lambda v, f: "-" if math.isnan(v) else f.format(v)  # noqa: E731
+    lines = [f"{run.name} ({'x'.join(map(str, run.grid))}):", "",
+             f"| strain | {run.mu_name} | T | T of B | solid <abs(y)> / r | solid within r of a wall |",
+             "|---|---|---|---|---|---|"]
+    for w in rows:
+        lines.append(f"| [{w['from']:g}, {w['to']:.4g}) | {nan(w['mu'], '{:.4f}')} | {nan(w['T'], '{:.4f}')} | "
+                     f"{nan(w['T_B'], '{:.4f}')} | {nan(w['abs_y'], '{:.3f}')} | "
+                     f"{nan(100 * w['wall'], '{:.2f}%')} |")
+    return "\n".join(lines) + "\n"
 
 
 def fmt(m):
@@ -474,6 +522,9 @@ def main():
     h.add_argument("runs", nargs="+")
     lp = sub.add_parser("lowphi")
     lp.add_argument("runs", nargs="+")
+    wp = sub.add_parser("windows")
+    wp.add_argument("runs", nargs="+")
+    wp.add_argument("--width", type=float, default=10.0)
     ap.add_argument("--box", help="LX,LY,LZ of runs still going (no summary.json yet)")
     a = ap.parse_args()
     global BOX
@@ -484,6 +535,11 @@ def main():
         return
     if a.cmd == "lowphi":
         lowphi(a.runs)
+        return
+    if a.cmd == "windows":
+        for folder in a.runs:
+            run = Run(folder)
+            sys.stdout.write(windows_markdown(run, window_means(run, a.width)) + "\n")
         return
     if a.cmd == "figure":
         theory = None

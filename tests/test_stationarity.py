@@ -132,6 +132,31 @@ with tempfile.TemporaryDirectory() as tmp:
     want = -0.375 / (0.5 + 1.5 * (0.5 - 0.25 * (29.875 - 10) / 40))
     check("migration trend", abs(t[0] - want) < 1e-9, f"{100 * t[0]:+.3f}% per 40 (want {100 * want:+.3f}%)")
 
+    # 6c. The window table (`windows`): the same migrating run's mean |y|
+    #    per 10-strain window, and the share of its solid within one radius
+    #    of a wall (|y| > 4 in this 10-high box): none here, as all of it
+    #    sits at |y| <= 2; then a copy with the outer share moved to |y| =
+    #    4.5, where that share is w itself, 0.5 over [0, 10) and 0.5 - 0.25
+    #    (s - 10) / 40 after (window means of the rows at 10, 10.25 ...).
+    rows = st.window_means(st.Run(run), 10.0)
+    mean_w = lambda lo: sum(0.5 - 0.25 * (s / 4 - 10) / 40 for s in range(4 * lo, 4 * lo + 40)) / 40  # noqa: E731
+    check("windows: 5 of them, mean |y| and no wall share",
+          len(rows) == 5 and abs(rows[0]["abs_y"] - 1.25) < 1e-12
+          and abs(rows[2]["abs_y"] - (0.5 + 1.5 * mean_w(20))) < 1e-12 and max(r["wall"] for r in rows) == 0,
+          f"{[(r['from'], round(r['abs_y'], 4), r['wall']) for r in rows]}")
+    near = write_run(os.path.join(tmp, "near_walls"), volume=lambda s: dense_vol)
+    with open(os.path.join(run, "profiles_series.csv")) as f, \
+            open(os.path.join(near, "profiles_series.csv"), "w", newline="") as g:
+        w = csv.writer(g)
+        for r in csv.reader(f):
+            w.writerow(r[:3] + [{"-2": "-4.5", "2": "4.5"}.get(r[3], r[3])] + r[4:])
+    rows = st.window_means(st.Run(near), 10.0)
+    check("windows: the share within r of a wall",
+          abs(rows[0]["wall"] - 0.5) < 1e-12 and abs(rows[3]["wall"] - mean_w(30)) < 1e-12,
+          f"{[(r['from'], round(r['wall'], 5)) for r in rows]} (want 0.5, ..., {mean_w(30):.5f} at 30)")
+    out = subprocess.run([sys.executable, SCRIPT, "windows", near], capture_output=True, text=True)
+    check("windows printed", "| [40, 50) |" in out.stdout and "50.00%" in out.stdout, out.stdout[-400:] + out.stderr)
+
 # 7. Bodies of phi (the shape report's fusion count): two balls apart are
 #    two; one cut by the periodic x boundary is one; two touching only
 #    across the walls (y) stay two; a lower level joins a thin bridge.
