@@ -450,7 +450,9 @@ def shape(folders):
                 bodies = f"{clusters(phi, 0.5)} / {clusters(phi, 0.9)}"
             tr, dif = 0.5 * (bxx + byy), math.sqrt(0.25 * (bxx - byy) ** 2 + bxy ** 2)
             a, b = math.sqrt(tr + dif), math.sqrt(max(tr - dif, 0))
-            r = parts.get(step)
+            # the tracker's row at the snapshot, or the nearest one (rows come
+            # every series_every steps, snapshots every fields_every strain)
+            r = parts[min(parts, key=lambda k: abs(k - step))] if parts else None
             tp = f"{float(r['taylor_mean']):.4f} | {float(r['angle_mean_deg']):.1f}" if r else "- | -"
             st = f"{float(r['strain']):.1f}" if r else "?"
             print(f"| {os.path.basename(os.path.normpath(folder))} | {os.path.basename(f)} | {st} | {tp} | "
