@@ -27,7 +27,7 @@ case_of() {
   case $1 in
     single) echo cases/couette.toml ;;                 # fluid only (explicit viscosity, as CaNS)
     particle) echo cases/phi0016_ca02.toml ;;          # one sphere, Ca = 0.2 (dilute reference case; implicit)
-    dense) echo cases/phi011_ca02.toml ;;              # Phi = 0.11, Ca = 0.2 (implicit; placement pinned below)
+    dense) echo cases/phi011_ca02.toml ;;              # Phi = 0.11, Ca = 0.2 (implicit; placement and gap pinned below)
     *) echo "bench: unknown scene $1" >&2; exit 2 ;;
   esac
 }
@@ -44,7 +44,7 @@ for scene in $scenes; do
   # the dense scene keeps the independent draws of the baselines (rounds <= 20):
   # the stratified default would move its 67 spheres
   scene_args=()
-  [ "$scene" = dense ] && scene_args=(--set 'particles.placement="random"')
+  [ "$scene" = dense ] && scene_args=(--set 'particles.placement="random"' --set particles.min_gap_cells=0)
   scripts/toolchain.sh run "${launch[@]}" "$bin" "$(case_of "$scene")" "${scene_args[@]}" \
     --set grid.nx="$nx" --set grid.ny="$ny" --set grid.nz="$nz" \
     --warmup "${WARMUP:-3}" --steps "${STEPS:-5}" --reps "${REPS:-5}" "${class_args[@]}" \

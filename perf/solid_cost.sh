@@ -42,6 +42,8 @@ for r in $(seq 1 "$rounds"); do
     case $v in thinc | thinc09) extra=(--set particles.phi_scheme=thinc) ;; esac
     case $v in thinc | mthinc05) extra+=(--set particles.b_solid_phi=0.5) ;; esac
     [ $v = colours ] && extra=(--set particles.colour_fields=67)
+    # and the gap it knows (min_gap alone; the issue-time code has no min_gap_cells)
+    [ $v != issue ] && extra+=(--set particles.min_gap_cells=0)
     # independent draws: the placement the issue-time code knows (and the baselines')
     scripts/toolchain.sh run "$run_bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       --set 'particles.placement="random"' \

@@ -192,9 +192,9 @@ if [[ $phases == *" harness "* ]]; then
   for r in "${runs[@]}"; do
     read -r name case gx gy gz <<< "$r"
     log "harness: $name ($case, ${gx}x${gy}x${gz})"
-    # the dense scenes keep the CPU baselines' placement (independent draws)
+    # the dense scenes keep the CPU baselines' placement (independent draws, min_gap alone)
     pin=()
-    case $name in dense*) pin=(--set 'particles.placement="random"') ;; esac
+    case $name in dense*) pin=(--set 'particles.placement="random"' --set particles.min_gap_cells=0) ;; esac
     "$build/perf/softflow-perf" "$case" "${pin[@]}" --set grid.nx="$gx" --set grid.ny="$gy" --set grid.nz="$gz" \
       --warmup "${WARMUP:-3}" --steps "${STEPS:-5}" --reps "${REPS:-5}" --machine-class "$class" \
       --json "$out/$name.json" > "$work/harness-$name.log" 2>&1 ||

@@ -302,6 +302,8 @@ Config parse_config(const std::string& text, const std::string& name,
               "volume fraction that rounds to one sphere)");
         r.read("min_gap", p.min_gap, false);
         r.non_negative("min_gap", p.min_gap);
+        r.read("min_gap_cells", p.min_gap_cells, false);
+        r.non_negative("min_gap_cells", p.min_gap_cells);
         long seed = 1;
         r.read("seed", seed, false);
         r.non_negative("seed", seed);

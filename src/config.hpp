@@ -39,6 +39,7 @@ struct ParticleConfig {
   int count = -1;                        // the number of spheres (exactly one of the two)
   std::string placement = "stratified";  // "stratified" (random, even across y), "random", or "centre"
   Real min_gap = 0.1;                    // smallest surface-to-surface gap at seeding, also to the walls
+  Real min_gap_cells = 1;                // and at least this many cell diagonals (src/particle_seeding.cpp)
   unsigned long seed = 1;                // random placement seed
   int subsamples = 8;                    // sub-cell samples per direction for phi at interfaces
   Real layer_thickness = 0;              // shape = "layer"

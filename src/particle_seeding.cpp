@@ -13,6 +13,16 @@
 // small box lopsided: the dense Phi = 0.11 case (10 spheres, seed 1) started
 // with its solid's centre 0.86 r below mid-gap and 11% of it within r of a
 // wall, and its mu relaxed with that for 50+ strain units (round 21).
+//
+// The gap is at least a cell diagonal (particles.min_gap_cells = 1) as well as
+// min_gap: two spheres closer than that share cells, and their phi bands
+// touch above 1/2 from the start. At 4 points per radius the study's 0.1 r is
+// 0.23 of a diagonal: the 67 spheres of the reference box started as 35
+// bodies above phi = 1/2, and in the dense 8r x 6r x 8r box mu/mu_f fell by
+// 1.3-2.3% between strain [10, 30) and [30, 50) in 3 seeds of 3. With the
+// gap at 0.45 r (just over a diagonal) the same 3 seeds pass with no trend
+// (results/README.md, round 22). At 16 points per radius a diagonal is
+// 0.108 r, next to the study's 0.1 r.
 #include "particle_seeding.hpp"
 
 #include <algorithm>
@@ -45,29 +55,54 @@ double largest_stretch(const Real* b) {
   return q + 2 * p * std::cos(phase);
 }
 
+namespace {
+// a deformed start (particles.initial_b): the ellipsoid x^T B^-1 x < r^2
+// lies within r sqrt(lambda_max(B)) of its centre and reaches r sqrt(B_yy)
+// across y; kept apart as spheres of that radius
+double seeding_reach(const ParticleConfig& p) { return p.radius * std::sqrt(largest_stretch(p.initial_b)); }
+
+// an upper bound no packing of hard spheres between walls can beat, for gap g
+bool packable(const Config& c, double g) {
+  const ParticleConfig& p = c.particles;
+  const double dmin = 2 * seeding_reach(p) + g;
+  const double ylim = c.grid.ly / 2 - p.radius * std::sqrt(p.initial_b[3]) - g;
+  const double occupied = sphere_count(c) * (4.0 / 3.0) * M_PI * std::pow(dmin / 2, 3);
+  return ylim >= 0 && dmin <= c.grid.lx && dmin <= c.grid.lz &&
+         occupied <= 0.55 * c.grid.lx * (2 * ylim + dmin) * c.grid.lz;
+}
+}  // namespace
+
+double seeding_gap(const Config& c) {
+  const ParticleConfig& p = c.particles;
+  const GridConfig& gr = c.grid;
+  const double dx = gr.lx / gr.nx, dy = gr.ly / gr.ny, dz = gr.lz / gr.nz;
+  const double resolved = std::max(p.min_gap, p.min_gap_cells * std::sqrt(dx * dx + dy * dy + dz * dz));
+  if (packable(c, resolved) || !packable(c, p.min_gap)) return resolved;
+  // a dense box at a coarse grid (Phi = 0.33 at 4 points per radius): the
+  // largest gap between min_gap and the resolved one that the bound allows
+  double lo = p.min_gap, hi = resolved;
+  for (int it = 0; it < 60; ++it) (packable(c, 0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+  return lo;
+}
+
 std::vector<Sphere> seed_spheres(const Config& c) {
   const ParticleConfig& p = c.particles;
   const double lx = c.grid.lx, lz = c.grid.lz, h = c.grid.ly / 2;
-  // a deformed start (particles.initial_b): the ellipsoid x^T B^-1 x < r^2
-  // lies within r sqrt(lambda_max(B)) of its centre and reaches r sqrt(B_yy)
-  // across y; kept apart as spheres of that radius
-  const double r = p.radius, reach = r * std::sqrt(largest_stretch(p.initial_b));
-  const double dmin = 2 * reach + p.min_gap;
-  const double ylim = h - r * std::sqrt(p.initial_b[3]) - p.min_gap;
+  const double r = p.radius, reach = seeding_reach(p), gap = seeding_gap(c);
+  const double dmin = 2 * reach + gap;
+  const double ylim = h - r * std::sqrt(p.initial_b[3]) - gap;
   const int n = sphere_count(c);
   if (p.placement == "centre") return {{lx / 2, 0, lz / 2}};
   auto fail = [&](const std::string& why) {
     std::ostringstream s;
     s << "cannot place " << n << " spheres of radius " << r
-      << (reach > r ? " (deformed: reach " + std::to_string(reach) + ")" : "") << " with gap " << p.min_gap
+      << (reach > r ? " (deformed: reach " + std::to_string(reach) + ")" : "") << " with gap " << gap
       << " in the " << lx << " x " << c.grid.ly << " x " << lz << " box (volume fraction "
       << n * 4.0 / 3.0 * M_PI * r * r * r / (lx * c.grid.ly * lz) << "): " << why;
     throw InputError(s.str());
   };
   if (dmin > lx || dmin > lz) fail("the box is narrower than two radii plus the gap");
-  // an upper bound no packing of hard spheres between walls can beat
-  const double occupied = n * (4.0 / 3.0) * M_PI * std::pow(dmin / 2, 3);
-  if (occupied > 0.55 * lx * (2 * ylim + dmin) * lz) fail("too dense for random placement (limit ~0.55)");
+  if (!packable(c, gap)) fail("too dense for random placement (limit ~0.55)");
 
   std::mt19937_64 gen(p.seed);
   std::uniform_real_distribution<double> ux(0, lx), uy(-ylim, ylim), uz(0, lz);

@@ -17,6 +17,11 @@ int sphere_count(const Config& cfg);
 // lambda_max of a symmetric 3x3 matrix given as (xx, xy, xz, yy, yz, zz)
 double largest_stretch(const Real* b);
 
+// The surface gap seeding keeps between spheres and to the walls:
+// max(min_gap, min_gap_cells x the cell diagonal), lowered towards min_gap
+// (never below) only as far as the packing bound needs.
+double seeding_gap(const Config& cfg);
+
 // Deterministic from cfg.particles.seed. Throws InputError when the spheres
 // cannot be placed with the requested gap.
 std::vector<Sphere> seed_spheres(const Config& cfg);

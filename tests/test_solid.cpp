@@ -51,6 +51,12 @@ TEST(Seeding, SpheresDoNotOverlapAndAvoidTheWalls) {
     }
   }
   EXPECT_GE(dmin, 2.1 - 1e-9);
+  // a cell diagonal (sqrt 3 here) does not pack Phi = 0.33: the gap is
+  // lowered towards min_gap, only as far as needed, and kept
+  const double gap = seeding_gap(c);
+  EXPECT_GT(gap, 0.1);
+  EXPECT_LT(gap, std::sqrt(3.0));
+  EXPECT_GE(dmin, 2 + gap - 1e-9);
   // deterministic: the same seed gives the same spheres
   auto again = seed_spheres(c);
   EXPECT_EQ(s[17].x, again[17].x);
@@ -75,7 +81,7 @@ TEST(Seeding, StratifiedPlacementSpreadsSpheresAcrossTheGap) {
   };
   const int n = sphere_count(dense("random", 1));
   ASSERT_EQ(n, 10);
-  const double ylim = 3 - 1 - 0.1, theory = ylim / std::sqrt(3.0 * n);
+  const double ylim = 3 - 1 - seeding_gap(dense("random", 1)), theory = ylim / std::sqrt(3.0 * n);
   double ms[2] = {0, 0};
   const char* names[2] = {"stratified", "random"};
   for (int k = 0; k < 2; ++k) {
@@ -101,6 +107,50 @@ TEST(Seeding, StratifiedPlacementSpreadsSpheresAcrossTheGap) {
   EXPECT_EQ(a.x, b.x);
   EXPECT_EQ(a.y, b.y);
   EXPECT_EQ(a.z, b.z);
+}
+
+// Two spheres closer than a cell diagonal share cells, and their phi bands
+// touch above 1/2 from the start (at 4 points per radius the study's 0.1 r is
+// 0.23 of a diagonal). The default gap is at least one diagonal: in the
+// dense box at 4 points per radius every pair's surfaces, and every surface
+// and wall, are a diagonal apart, over 10 seeds; with min_gap_cells = 0 the
+// gap is min_gap, and some pair sits closer than a diagonal.
+TEST(Seeding, GapIsAtLeastACellDiagonal) {
+  const double diag = 0.25 * std::sqrt(3.0);  // 32 x 24 x 32 cells on 8 x 6 x 8
+  const auto closest = [](const std::vector<Sphere>& s, double& wall) {
+    double d = 1e9;
+    wall = 1e9;
+    for (size_t a = 0; a < s.size(); ++a) {
+      wall = std::min(wall, 3 - 1 - std::abs(s[a].y));
+      for (size_t b = a + 1; b < s.size(); ++b) {
+        double dx = s[b].x - s[a].x, dy = s[b].y - s[a].y, dz = s[b].z - s[a].z;
+        dx -= 8 * std::round(dx / 8), dz -= 8 * std::round(dz / 8);
+        d = std::min(d, std::sqrt(dx * dx + dy * dy + dz * dz) - 2);
+      }
+    }
+    return d;
+  };
+  double fewest = 1e9, fewest_wall = 1e9, old_fewest = 1e9;
+  for (int seed = 1; seed <= 10; ++seed) {
+    const auto dense = [seed](const std::string& cells) {
+      return couette_case(32, 24, 32,
+                          {"grid.lx=8.0", "grid.ly=6.0", "grid.lz=8.0", "walls.velocity=3.0",
+                           "particles.radius=1.0", "particles.volume_fraction=0.11", "particles.capillary=0.2",
+                           "particles.min_gap_cells=" + cells, "particles.seed=" + std::to_string(seed)});
+    };
+    EXPECT_NEAR(seeding_gap(dense("1.0")), diag, 1e-12);
+    EXPECT_EQ(seeding_gap(dense("0.0")), 0.1);
+    double wall = 0;
+    fewest = std::min(fewest, closest(seed_spheres(dense("1.0")), wall));
+    fewest_wall = std::min(fewest_wall, wall);
+    old_fewest = std::min(old_fewest, closest(seed_spheres(dense("0.0")), wall));
+  }
+  if (world_rank() == 0)
+    std::printf("  closest surfaces: %.4f r (to a wall %.4f r); with min_gap alone %.4f r; a diagonal %.4f r\n",
+                fewest, fewest_wall, old_fewest, diag);
+  EXPECT_GE(fewest, diag - 1e-9);
+  EXPECT_GE(fewest_wall, diag - 1e-9);
+  EXPECT_LT(old_fewest, diag);
 }
 
 TEST(Seeding, ImpossibleVolumeFractionIsRejected) {
