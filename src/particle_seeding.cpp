@@ -21,7 +21,8 @@
 // bodies above phi = 1/2, and in the dense 8r x 6r x 8r box mu/mu_f fell by
 // 1.3-2.3% between strain [10, 30) and [30, 50) in 3 seeds of 3. With the
 // gap at 0.45 r (just over a diagonal) the same 3 seeds pass with no trend
-// (results/README.md, round 22). At 16 points per radius a diagonal is
+// (with a diagonal, 2 of 3: collisions still fuse some particles later;
+// results/README.md, round 22). At 16 points per radius a diagonal is
 // 0.108 r, next to the study's 0.1 r.
 #include "particle_seeding.hpp"
 
