@@ -71,9 +71,9 @@ bool packable(const Config& c, double g) {
   return ylim >= 0 && dmin <= c.grid.lx && dmin <= c.grid.lz &&
          occupied <= 0.55 * c.grid.lx * (2 * ylim + dmin) * c.grid.lz;
 }
-}  // namespace
 
-double seeding_gap(const Config& c) {
+// the resolved gap, lowered only as far as the packing bound needs
+double bounded_gap(const Config& c) {
   const ParticleConfig& p = c.particles;
   const GridConfig& gr = c.grid;
   const double dx = gr.lx / gr.nx, dy = gr.ly / gr.ny, dz = gr.lz / gr.nz;
@@ -86,28 +86,29 @@ double seeding_gap(const Config& c) {
   return lo;
 }
 
-std::vector<Sphere> seed_spheres(const Config& c) {
+// The relaxation with gap `gap` into s; false if it jams, which throws only
+// when `last` (no smaller gap is left to try)
+bool relax(const Config& c, double gap, bool last, std::vector<Sphere>& s) {
   const ParticleConfig& p = c.particles;
   const double lx = c.grid.lx, lz = c.grid.lz, h = c.grid.ly / 2;
-  const double r = p.radius, reach = seeding_reach(p), gap = seeding_gap(c);
+  const double r = p.radius, reach = seeding_reach(p);
   const double dmin = 2 * reach + gap;
   const double ylim = h - r * std::sqrt(p.initial_b[3]) - gap;
   const int n = sphere_count(c);
-  if (p.placement == "centre") return {{lx / 2, 0, lz / 2}};
   auto fail = [&](const std::string& why) {
-    std::ostringstream s;
-    s << "cannot place " << n << " spheres of radius " << r
+    std::ostringstream m;
+    m << "cannot place " << n << " spheres of radius " << r
       << (reach > r ? " (deformed: reach " + std::to_string(reach) + ")" : "") << " with gap " << gap
       << " in the " << lx << " x " << c.grid.ly << " x " << lz << " box (volume fraction "
       << n * 4.0 / 3.0 * M_PI * r * r * r / (lx * c.grid.ly * lz) << "): " << why;
-    throw InputError(s.str());
+    throw InputError(m.str());
   };
   if (dmin > lx || dmin > lz) fail("the box is narrower than two radii plus the gap");
   if (!packable(c, gap)) fail("too dense for random placement (limit ~0.55)");
 
   std::mt19937_64 gen(p.seed);
   std::uniform_real_distribution<double> ux(0, lx), uy(-ylim, ylim), uz(0, lz);
-  std::vector<Sphere> s(n);
+  s.assign(n, Sphere{});
   if (p.placement == "stratified") {
     // the same draws, but sphere i's y is (stratum[i] + u) / n of the range
     // where "random" takes u of it (one sphere: the same y to the last bit)
@@ -148,10 +149,36 @@ std::vector<Sphere> seed_spheres(const Config& c) {
       q.z = wrap(q.z, lz);
       q.y = std::clamp(q.y, -ylim, ylim);
     }
-    if (overlaps == 0 && sweep >= grow) return s;
+    if (overlaps == 0 && sweep >= grow) return true;
   }
-  fail("no overlap-free arrangement found in 20000 relaxation sweeps");
-  return {};
+  if (last) fail("no overlap-free arrangement found in 20000 relaxation sweeps");
+  return false;
 }
+
+struct Placement {
+  std::vector<Sphere> spheres;
+  double gap;
+};
+
+// The relaxation jams before the packing bound in a small dense box (30
+// spheres, Phi = 0.33, 8r x 6r x 8r at 4 points per radius): a gap above
+// min_gap is then lowered towards it in steps, never below it
+Placement place(const Config& c) {
+  const ParticleConfig& p = c.particles;
+  const double first = bounded_gap(c), floor = p.min_gap;
+  if (p.placement == "centre") return {{{c.grid.lx / 2, 0, c.grid.lz / 2}}, first};
+  Placement out{{}, first};
+  for (const double f : {1.0, 0.5, 0.25, 0.0}) {
+    out.gap = floor + f * (first - floor);
+    const bool last = f == 0.0 || first <= floor;
+    if (relax(c, out.gap, last, out.spheres)) return out;
+  }
+  return out;  // not reached: the last try throws
+}
+}  // namespace
+
+double seeding_gap(const Config& c) { return place(c).gap; }
+
+std::vector<Sphere> seed_spheres(const Config& c) { return place(c).spheres; }
 
 }  // namespace softflow

@@ -153,6 +153,29 @@ TEST(Seeding, GapIsAtLeastACellDiagonal) {
   EXPECT_LT(old_fewest, diag);
 }
 
+// A small dense box jams the relaxation below the packing bound (30 spheres,
+// Phi = 0.33, 8r x 6r x 8r at 4 points per radius: a diagonal, 0.433 r, and
+// the bound's largest gap, 0.333 r, both jam): the gap is lowered towards
+// min_gap in steps, not below it, and the spheres keep the gap used.
+TEST(Seeding, AJammedGapIsLoweredTowardsMinGap) {
+  const Config c = couette_case(32, 24, 32,
+                                {"grid.lx=8.0", "grid.ly=6.0", "grid.lz=8.0", "walls.velocity=3.0",
+                                 "particles.radius=1.0", "particles.count=30", "particles.capillary=0.2"});
+  const double gap = seeding_gap(c);
+  const auto s = seed_spheres(c);
+  double closest = 1e9;
+  for (size_t a = 0; a < s.size(); ++a)
+    for (size_t b = a + 1; b < s.size(); ++b) {
+      double dx = s[b].x - s[a].x, dy = s[b].y - s[a].y, dz = s[b].z - s[a].z;
+      dx -= 8 * std::round(dx / 8), dz -= 8 * std::round(dz / 8);
+      closest = std::min(closest, std::sqrt(dx * dx + dy * dy + dz * dz) - 2);
+    }
+  if (world_rank() == 0) std::printf("  gap used %.4f r, closest surfaces %.4f r\n", gap, closest);
+  EXPECT_GE(gap, 0.1);
+  EXPECT_LT(gap, 0.25 * std::sqrt(3.0));
+  EXPECT_GE(closest, gap - 1e-9);
+}
+
 TEST(Seeding, ImpossibleVolumeFractionIsRejected) {
   Config c =
       couette_case(16, 10, 16,
