@@ -51,9 +51,10 @@ other than the largest); the solid volume beyond 1.25; the 0.1 <= phi < 0.5
 band's share. Solid drawn out as threads that stay attached shows beyond
 1.25 and connected; shed drops show as detached.
 windows RUN_DIR... [--width W]: per consecutive strain window of width W
-(default 10) the means of mu (or [mu]), T and T of B, and for dense runs where the solid sits across the gap (<|y|> / r and
-its share within one radius of a wall): how a run settles, and whether its
-mu follows the particles' migration.
+(default 10) the means of mu (or [mu]), T and T of B, and for dense runs
+where the solid sits across the gap (<|y|> / r and its share within one
+radius of a wall): how a run settles, and whether its mu follows the
+particles' migration.
 figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
 old scheme's run of the same case) beside it; --theory adds the exact
 dilute theory's own start-up from a sphere at that Ca (and K, default 1),
@@ -152,7 +153,10 @@ class Run:
         self.phi = float(self.series[0]["solid_volume"]) / vol  # conserved; a blown-up run's last row is not
         self.dilute = self.phi < 0.01
         self.mu_name = "[mu]" if self.dilute else "mu/mu_f"
-        self.spread = [] if self.dilute else solid_spread(folder)
+        # where the solid sits across the gap, per profiles row (dense runs):
+        # read once, for the trend check and the window table
+        self.across = [] if self.dilute else solid_across_gap(folder, self.box[1] / 2)
+        self.spread = [(x, y) for x, y, _ in self.across]
 
     def strain(self, rows):
         return [float(r["strain"]) for r in rows]
@@ -286,14 +290,13 @@ def window_means(run, width):
     the solid's <|y|> and its share within one radius of a wall. Means only:
     the evidence that a run has settled is that the late windows agree."""
     reached = float(run.series[-1]["strain"])
-    across = solid_across_gap(run.folder, run.box[1] / 2) if not run.dilute else []
     mean = lambda v: sum(v) / len(v) if v else math.nan  # noqa: E731
     out, lo = [], 0.0
     while lo < reached - 1e-9:
         hi = lo + width
         inside = lambda x: lo <= x < hi  # noqa: E731
         parts = [r for r in run.particles if inside(float(r["strain"]))]
-        gap = [(y, w) for x, y, w in across if inside(x)]
+        gap = [(y, w) for x, y, w in run.across if inside(x)]
         out.append({"from": lo, "to": min(hi, reached),
                     "mu": mean([run.mu(r) for r in run.series if int(r["step"]) > 0 and inside(float(r["strain"]))]),
                     "T": mean([float(r["taylor_mean"]) for r in parts]),
