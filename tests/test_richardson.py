@@ -73,4 +73,21 @@ check("scatter widens the order's range, which still holds p",
       large[2][0] <= 1.0 <= large[2][1] and width[2] > 2 * width[0] and abs(width[1] - width[0]) < 0.011,
       f"ranges {clean[2]}, {small[2]}, {large[2]}")
 
+# 4. verify's pieces: every run's name parses back to the run (so any
+#    committed record can be re-run by name), other names do not; and a
+#    re-run that differs from its record by more than --rel in one quantity
+#    is caught, one equal to it to round-off is not.
+named = [(0.2, 1.0, "mthinc09", 4, 8), (0.2, 10.0, "thinc", 12, 8), (0.1, 1.0, "mthinc", 6),
+         (0.2, 10.0, "thinc", 5, 16, 32), (0.4, 1.0, "weno5", 3)]
+check("run names parse back to their runs",
+      all(dc.run_of(dc.name_of(*r)) == r for r in named) and dc.run_of("ca0.2_k1_spline_r4") is None
+      and dc.run_of("notes") is None, str([dc.run_of(dc.name_of(*r)) for r in named]))
+kept = {"q": {"T": [0.2283552206, 1e-3], "intrinsic": [2.443218148, 3e-3]}}
+same = {"q": {"T": [0.2283552206 * (1 + 1e-15), 1e-3], "intrinsic": [2.443218148, 3e-3]}}
+moved = {"q": {"T": [0.2283552206, 1e-3], "intrinsic": [2.443218148 * (1 + 2e-9), 3e-3]}}
+check("verify passes round-off and catches a 2e-9 change",
+      all(r[4] for r in dc.compare_records(kept, same, 1e-9))
+      and [r[4] for r in dc.compare_records(kept, moved, 1e-9)] == [True, False],
+      str(dc.compare_records(kept, moved, 1e-9)))
+
 finish()
