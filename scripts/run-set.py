@@ -20,6 +20,7 @@ is OUT/table.csv, one row per case, means and standard errors
 """
 import argparse
 import csv
+import fcntl
 import json
 import math
 import os
@@ -203,6 +204,19 @@ def collect(names, args, ref):
     return path
 
 
+def build_solver(build):
+    """The toolchain root, then softflow configured and built in `build`, one
+    run-set at a time: two run-sets started together ran two cmakes in one
+    build folder, and one of them failed before its first run."""
+    os.makedirs(build, exist_ok=True)
+    with open(os.path.join(build, ".run-set-build.lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "setup"], check=True)
+        subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "bash", "-c",
+                        f'cmake -S . -B "{build}" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null && '
+                        f'cmake --build "{build}" --target softflow >/dev/null'], check=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cases", default="all")
@@ -233,10 +247,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     os.chdir(ROOT)
     if not args.collect_only:
-        subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "setup"], check=True)
-        subprocess.run([os.path.join(ROOT, "scripts", "toolchain.sh"), "run", "bash", "-c",
-                        f'cmake -S . -B "{args.build}" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null && '
-                        f'cmake --build "{args.build}" --target softflow >/dev/null'], check=True)
+        build_solver(args.build)
         todo = []
         for name in names:
             s = done_strain(os.path.join(args.out, name))
