@@ -404,8 +404,12 @@ inline void solid_rk3_update(const SolidFields& f, const SolidFields& now, const
 // tails of tiny positive values that would otherwise creep ~3 cells per stage
 // into the fluid and spread the solid region (kernels/solid_region.hpp) over
 // the box; their volume goes back to the interface like the clipped excess.
+// A colour field may keep a higher cut (particles.colour_cut): its work is
+// on boxes about its support, which the tails set (src/colour_fields.hpp).
 constexpr Real phi_zero_cut = 1e-10;
-KOKKOS_INLINE_FUNCTION Real kept_phi(Real p) { return p < phi_zero_cut ? Real(0) : Kokkos::fmin(Real(1), p); }
+KOKKOS_INLINE_FUNCTION Real kept_phi(Real p, Real cut = phi_zero_cut) {
+  return p < cut ? Real(0) : Kokkos::fmin(Real(1), p);
+}
 
 // Keeps phi in [0, 1] without losing solid volume. With c = kept_phi(phi),
 // e = sum(phi - c) (the clipped volume, over all ranks) and W = sum c (1 - c),
@@ -421,7 +425,8 @@ KOKKOS_INLINE_FUNCTION Real kept_phi(Real p) { return p < phi_zero_cut ? Real(0)
 // (kernels/solid_region.hpp; a colour's boxes, src/colour_boxes.hpp). In
 // two halves, so that many fields (the colours) share one allreduce: this
 // rank's {e, W} into sums[0..1], then, with the global sums, the update.
-inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int n, Real* sums) {
+inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int n, Real* sums,
+                                    Real cut = phi_zero_cut) {
   sums[0] = sums[1] = 0;
   for (int b = 0; b < n; ++b) {
     Real e = 0, w = 0;
@@ -429,13 +434,13 @@ inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int
         "solid_phi_excess", region[b],
         KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
           const Real p = phi(i, j, k);
-          s += p - kept_phi(p);
+          s += p - kept_phi(p, cut);
         },
         Kokkos::Sum<Real>(e));
     par_reduce(
         "solid_phi_interface_weight", region[b],
         KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
-          const Real c = kept_phi(phi(i, j, k));
+          const Real c = kept_phi(phi(i, j, k), cut);
           s += c * (1 - c);
         },
         Kokkos::Sum<Real>(w));
@@ -443,13 +448,14 @@ inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int
     sums[1] += w;
   }
 }
-inline void phi_redistribute(const Field3& phi, const Real* global_sums, const Range3* region, int n) {
+inline void phi_redistribute(const Field3& phi, const Real* global_sums, const Range3* region, int n,
+                             Real cut = phi_zero_cut) {
   const Real e = global_sums[0], w = global_sums[1];
   const Real a = w > 0 ? Kokkos::fmax(Real(-1), Kokkos::fmin(Real(1), e / w)) : Real(0);
   for (int b = 0; b < n; ++b)
     par_for(
         "solid_phi_redistribute", region[b], KOKKOS_LAMBDA(int i, int j, int k) {
-          const Real c = kept_phi(phi(i, j, k));
+          const Real c = kept_phi(phi(i, j, k), cut);
           phi(i, j, k) = c + a * c * (1 - c);
         });
 }

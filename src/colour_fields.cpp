@@ -8,8 +8,9 @@
 
 namespace softflow {
 
-ColourFields::ColourFields(const Grid& g, int n)
-    : stride_(g.sx() + g.sy() + g.sz()),
+ColourFields::ColourFields(const Grid& g, int n, Real cut)
+    : cut_(cut),
+      stride_(g.sx() + g.sy() + g.sz()),
       occ_("colour_occupancy", std::size_t(n) * stride_),
       occ_host_(Kokkos::create_mirror_view(occ_)) {
   for (int c = 0; c < n; ++c) {
@@ -132,7 +133,7 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
             "colour_rk3_update_before", active_[c].box[a],
             KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += zdt * rb(i, j, k); });
     active_[c] = active;
-    phi_redistribution_sums(q, update_[c].box.data(), update_[c].count, &sums_[2 * c]);
+    phi_redistribution_sums(q, update_[c].box.data(), update_[c].count, &sums_[2 * c], cut_);
     // split ranks scan the step's boxes grown by 3, ghosts included, so
     // their ghosts must hold the truth wherever those boxes reach
     const ColourBoxes& reads_from = whole ? update_[c] : step;
@@ -154,7 +155,7 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
   // collective (every rank, empty boxes or not)
   if (n > 0) allreduce_sum(sums_.data(), 4 * n);
   for (int c = 0; c < n; ++c) {
-    phi_redistribute(c_[c], &sums_[2 * c], update_[c].box.data(), update_[c].count);
+    phi_redistribute(c_[c], &sums_[2 * c], update_[c].box.data(), update_[c].count, cut_);
     near_halo_[c] = sums_[2 * n + c] > 0;
     near_wall_[c] = sums_[3 * n + c] > 0;
   }

@@ -29,7 +29,8 @@ namespace softflow {
 class ColourFields {
  public:
   ColourFields() = default;
-  ColourFields(const Grid& g, int n);
+  // cut: values below it are set to 0 after every stage (particles.colour_cut)
+  ColourFields(const Grid& g, int n, Real cut = phi_zero_cut);
   int size() const { return int(c_.size()); }
   const Field3& colour(int c) const { return c_[c]; }
   // where colour c can be during this step (src/colour_boxes.hpp)
@@ -69,7 +70,8 @@ class ColourFields {
   std::vector<ColourBoxes> update_;  // where the last stage updated it (holds its support)
   std::vector<ColourBoxes> active_;  // where the last stage's right-hand side was computed
   std::vector<ColourBoxes> scan_;    // where scan_all looks for it
-  std::size_t stride_ = 0;           // one colour's flags: sx + sy + sz
+  Real cut_ = phi_zero_cut;
+  std::size_t stride_ = 0;  // one colour's flags: sx + sy + sz
   Kokkos::View<int*, MemSpace> occ_;
   Kokkos::View<int*, MemSpace>::host_mirror_type occ_host_;
   std::vector<int> occ_last_;            // the flags of the last stage's scan (host)

@@ -357,6 +357,14 @@ Config parse_config(const std::string& text, const std::string& name,
       r.non_negative("colour_fields", p.colour_fields);
       if (p.colour_fields > 0 && p.shape != "spheres")
         throw InputError("'particles.colour_fields' needs 'particles.shape = \"spheres\"'");
+      r.read("colour_cut", p.colour_cut, false);
+      // below phi's own cut the tails would outlive phi's; above 1e-3 the cut
+      // would reach into the interface MTHINC reconstructs
+      if (!(p.colour_cut >= 1e-10 && p.colour_cut <= 1e-3)) {
+        std::ostringstream got;
+        got << p.colour_cut;  // 1e-12, not to_string's 0.000000
+        throw InputError("'particles.colour_cut' must be in [1e-10, 1e-3] (got " + got.str() + ")");
+      }
       if (r.read_numbers("initial_b", p.initial_b, 6, false)) {
         if (p.shape != "spheres")
           throw InputError("'particles.initial_b' needs 'particles.shape = \"spheres\"'");

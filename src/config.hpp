@@ -61,6 +61,9 @@ struct ParticleConfig {
   // phi as the sum of this many colour fields, particle m in colour m % n,
   // each transported on its own (src/colour_fields.hpp); 0: one phi field
   int colour_fields = 0;
+  // a colour's values below this are set to 0 (their volume goes back to its
+  // interface, as phi's below 1e-10): the tails set the boxes it is worked on
+  Real colour_cut = 1e-10;
   bool deformed_start() const {
     return initial_b[0] != 1 || initial_b[1] != 0 || initial_b[2] != 0 || initial_b[3] != 1 ||
            initial_b[4] != 0 || initial_b[5] != 1;

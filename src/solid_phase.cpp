@@ -32,7 +32,8 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   phi_scheme_.multi_d = cfg.particles.phi_scheme == "mthinc";
   if (cfg.particles.colour_fields > 0) {
     // more colours than particles would only add empty fields
-    colours_ = ColourFields(g, std::min(cfg.particles.colour_fields, sphere_count(cfg)));
+    colours_ =
+        ColourFields(g, std::min(cfg.particles.colour_fields, sphere_count(cfg)), cfg.particles.colour_cut);
     phi_scheme_.phi_from_colours = true;
   }
   extend_b_ = cfg.particles.b_extension;

@@ -4,6 +4,7 @@
 // phi as phi's own transport does.
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <vector>
 
 #include "diagnostics.hpp"
@@ -35,6 +36,16 @@ double sum_on(const Field3& f, const Range3& r) {
 }
 
 double field_sum(const Grid& g, const Field3& f) { return global_sum(sum_on(f, g.interior())); }
+
+// the cells of r on this rank whose value lies strictly between lo and hi
+long count_between(const Field3& f, const Range3& r, double lo, double hi) {
+  long n = 0;
+  par_reduce(
+      "test_count_between", r,
+      KOKKOS_LAMBDA(int i, int j, int k, long& a) { a += f(i, j, k) > lo && f(i, j, k) < hi; },
+      Kokkos::Sum<long>(n));
+  return n;
+}
 
 // max |phi - sum of the colours| and the colours' range, over the interior
 struct ColourCheck {
@@ -245,4 +256,49 @@ TEST(ColourFields, ParticleAcrossTheSeamCostsItsSize) {
   EXPECT_LT(
       global_max(max_diff(plain.solid()->fields().phi(), coloured.solid()->fields().phi(), g.interior())),
       1e-12);
+}
+
+// particles.colour_cut: a colour's values below it go to 0 after every stage
+// and their volume back to its interface (as phi's below 1e-10), so each
+// colour still keeps its volume to round-off and stays in [0, 1], holds no
+// value in (0, cut), and its tails, which set the boxes it is worked on,
+// end sooner: fewer cells in its update boxes than with phi's cut.
+TEST(ColourFields, AHigherCutShrinksTheBoxesAndKeepsTheVolume) {
+  auto run = [](double cut) {
+    Config c = dense_case(6);
+    c.particles.colour_cut = cut;
+    auto s = std::make_unique<FlowSolver>(c, MPI_COMM_WORLD);
+    s->initialize();
+    return s;
+  };
+  auto fine = run(1e-10), coarse = run(1e-6);
+  const Grid g = coarse->grid();
+  const ColourFields &cf = fine->solid()->colours(), &cc = coarse->solid()->colours();
+  std::vector<double> v0;
+  for (int m = 0; m < cc.size(); ++m) v0.push_back(field_sum(g, cc.colour(m)));
+  run_to(*fine, 1.0);
+  run_to(*coarse, 1.0);
+  auto cells = [](const ColourFields& c) {
+    long n = 0;
+    for (int m = 0; m < c.size(); ++m)
+      for (int q = 0; q < c.update_boxes(m).count; ++q) n += c.update_boxes(m).box[q].size();
+    return double(global_sum(double(n)));
+  };
+  long tiny = 0;
+  for (int m = 0; m < cc.size(); ++m) {
+    EXPECT_NEAR(field_sum(g, cc.colour(m)) / v0[m], 1.0, 1e-12) << m;
+    tiny += count_between(cc.colour(m), g.interior(), 0, 1e-6);
+  }
+  const ColourCheck k = check_colours(*coarse);
+  const double n_fine = cells(cf), n_coarse = cells(cc);
+  const double d =
+      global_max(max_diff(fine->solid()->fields().phi(), coarse->solid()->fields().phi(), g.interior()));
+  if (world_rank() == 0)
+    std::printf("  update-box cells %.0f (cut 1e-10) and %.0f (1e-6); max |phi difference| %.1e\n", n_fine,
+                n_coarse, d);
+  EXPECT_EQ(global_sum(double(tiny)), 0.0);
+  EXPECT_GE(k.min, 0.0);
+  EXPECT_LE(k.max, 1.0);
+  EXPECT_LT(k.sum_error, 1e-15);
+  EXPECT_LT(n_coarse, 0.8 * n_fine);
 }

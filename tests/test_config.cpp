@@ -98,6 +98,11 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
                "'particles.b_solid_phi' must be in [0.5, 0.99]");
   expect_error(error_of(good, with("particles.thinc_beta=20")),
                "'particles.thinc_beta' must be in [0.5, 10]");
+  EXPECT_EQ(error_of(good, with("particles.colour_cut=1e-6")), "");
+  expect_error(error_of(good, with("particles.colour_cut=1e-12")),
+               "'particles.colour_cut' must be in [1e-10, 1e-3] (got 1e-12)");
+  expect_error(error_of(good, with("particles.colour_cut=0.01")),
+               "'particles.colour_cut' must be in [1e-10, 1e-3] (got 0.01)");
   expect_error(
       error_of(good, {"particles.radius=0.2", "particles.count=3", "particles.placement=\"lattice\""}),
       "'particles.placement' must be \"stratified\", \"random\" or \"centre\" (got \"lattice\")");
