@@ -11,8 +11,10 @@
 # issue's "today's" step; built once into build-reference/), thinc (THINC
 # phi, b_solid_phi 0.5: the default until round 15), thinc09 (THINC, 0.9),
 # mthinc05 (MTHINC, 0.5), colours (the default numerics with one colour field
-# per particle, particles.colour_fields = 67), colours6 and colours4 (the same
-# with particles.colour_cut = 1e-6 and 1e-4).
+# per particle, particles.colour_fields = 67, and the colours' tails cut at
+# phi's 1e-10, particles.colour_cut: the option until round 23), colours6 and
+# colours4 (the same with colour_cut = 1e-6 and 1e-4, the option's default
+# since round 23).
 #   perf/solid_cost.sh                      # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
 #   VARIANTS="issue old new" perf/solid_cost.sh
 # Environment: ROUNDS (default 3), VARIANTS (default "old new"),
@@ -43,6 +45,7 @@ for r in $(seq 1 "$rounds"); do
     case $v in thinc | thinc09) extra=(--set particles.phi_scheme=thinc) ;; esac
     case $v in thinc | mthinc05) extra+=(--set particles.b_solid_phi=0.5) ;; esac
     case $v in colours | colours6 | colours4) extra=(--set particles.colour_fields=67) ;; esac
+    [ $v = colours ] && extra+=(--set particles.colour_cut=1e-10)
     [ $v = colours6 ] && extra+=(--set particles.colour_cut=1e-6)
     [ $v = colours4 ] && extra+=(--set particles.colour_cut=1e-4)
     # and the gap it knows (min_gap alone; the issue-time code has no min_gap_cells)
@@ -63,7 +66,7 @@ def kern(v, r):
     k = json.load(open(f"{out}/{v}_{r}.json"))["kernels"]
     return {n: d["seconds_per_step"]["median"] for n, d in k.items() if "solid" in n}
 names = {"old": "old", "new": "default (MTHINC, 0.9)", "thinc": "THINC, 0.5", "thinc09": "THINC, 0.9",
-         "mthinc05": "MTHINC, 0.5", "colours": "default, 67 colours", "colours6": "67 colours, cut 1e-6",
+         "mthinc05": "MTHINC, 0.5", "colours": "67 colours, cut 1e-10", "colours6": "67 colours, cut 1e-6",
          "colours4": "67 colours, cut 1e-4", "issue": "issue-time code"}
 steps = {v: [step(v, r) for r in range(1, rounds + 1)] for v in variants}
 # each variant against the old numerics and, when it ran, the issue-time code

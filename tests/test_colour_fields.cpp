@@ -1,7 +1,8 @@
 // Multiple markers (particles.colour_fields, src/colour_fields.hpp): phi is
 // the sum of the colours, each particle's volume is in its own colour, each
 // colour is conserved and bounded on its own, and one colour transports
-// phi as phi's own transport does.
+// phi as phi's own transport does (with phi's own cut of 1e-10 for the tails;
+// the colours' default cut is higher, particles.colour_cut).
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -125,6 +126,7 @@ TEST(ColourFields, ConservedBoundedAndSummed) {
     Config c = dense_case(colours);
     c.particles.count = 1;
     c.particles.placement = "centre";
+    c.particles.colour_cut = 1e-10;  // phi's own cut: the same transport
     return c;
   };
   FlowSolver plain(one_particle(0), MPI_COMM_WORLD), coloured(one_particle(1), MPI_COMM_WORLD);
@@ -198,6 +200,7 @@ TEST(ColourFields, ParticleAcrossTheSeamCostsItsSize) {
                       "initial.type=couette", "particles.radius=1.0", "particles.count=1",
                       "particles.capillary=0.2", "particles.colour_fields=" + std::to_string(colours)});
     c.particles.seed = seed;
+    c.particles.colour_cut = 1e-10;  // phi's own cut: the same transport, and round 20's box lengths
     return c;
   };
   // the first seed whose sphere crosses x = 0 or z = 0 (deterministic)
