@@ -751,7 +751,7 @@ def compare_records(kept, now, rel):
             rows.append((key, m_kept, None, math.inf, False))
             continue
         m_now = now["q"][key][0]
-        d = abs(m_now - m_kept) / max(abs(m_kept), 1e-300) if m_now != m_kept else 0.0
+        d = abs(m_now - m_kept) / max(abs(m_kept), 1e-300)
         rows.append((key, m_kept, m_now, d, d <= rel))
     return rows
 
