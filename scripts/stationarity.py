@@ -2,7 +2,7 @@
 """Is a run stationary, and is its solid phase physical? The checks of
 issue 12, from a run folder's series.csv, particles.csv and summary.json.
 
-  scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--md OUT.md]
+  scripts/stationarity.py check RUN_DIR... [--windows 10,30,50] [--se tau|batches] [--md OUT.md]
   scripts/stationarity.py lowphi RUN_DIR... [--box LX,LY,LZ]
   scripts/stationarity.py windows RUN_DIR... [--width 10] [--box LX,LY,LZ]
   scripts/stationarity.py figure OUT.png NEW_DIR[,OLD_DIR] ... [--labels NEW,OLD] [--theory CA[:K]]
@@ -12,9 +12,19 @@ check, per run:
   - mu (mu/mu_f; for a dilute run, Phi < 0.01, the intrinsic viscosity
     [mu] = (mu/mu_f - 1)/Phi instead) and the mean Taylor parameter T,
     averaged over the strain windows [w0, w1) and [w1, w2); each with its
-    10-batch-means standard error. They agree when the difference is within
-    2 standard errors of the difference, sqrt(se1^2 + se2^2), or within 1%
-    of the later mean, whichever is larger. Where particles.csv has
+    standard error sqrt(var tau / n), tau the integrated autocorrelation
+    time of the whole span [w0, w2) (Sokal's window): under the test's
+    hypothesis, a span stationary throughout, one tau holds for both
+    windows, and the span estimates it better than either window alone.
+    They agree when the difference is within 2 standard errors of the
+    difference, sqrt(se1^2 + se2^2), or within 1% of the later mean,
+    whichever is larger. (--se batches: each window's own 10-batch-means
+    standard error instead, the test until round 24. A dense run's T is
+    correlated over 2-4 strain units, longer than a 20-strain window's
+    2-strain batches, so that error was too small: of 200 stationary AR(1)
+    pairs of windows with tau = 3 strain units (tests/test_stationarity.py)
+    it fails 22.5% at 2 standard errors, the span's tau 9.5%, against 4.6%
+    for a true standard error; results/README.md, round 24.) Where particles.csv has
     taylor_b_mean, T of the ellipsoid B records is compared the same way and
     reported beside (not a pass condition).
   - det B over the cells with phi > 0.5 stays in [0.97, 1.03] at every row
@@ -103,6 +113,36 @@ def batch_mean(v, batches=10):
     return m, math.sqrt(sum((x - mb) ** 2 for x in bm) / (batches - 1) / batches)
 
 
+def integrated_time(v, c=5):
+    """The integrated autocorrelation time of the series v, in rows:
+    tau = 1 + 2 sum_{k=1..M} rho_k (rho_k the lag-k autocorrelation, its
+    covariance summed over n - k pairs and divided by n), with Sokal's
+    automatic window: the first M >= c tau(M), c = 5 (Sokal 1997, Monte
+    Carlo methods in statistical mechanics, sec. 3). At least 1: white noise.
+    A series shorter than its correlation needs returns the sum over every
+    lag it has, an underestimate (the window never closed)."""
+    n = len(v)
+    m = sum(v) / n
+    d = [x - m for x in v]
+    c0 = sum(x * x for x in d) / n
+    if c0 == 0:
+        return 1.0
+    tau = 1.0
+    for k in range(1, n):
+        tau += 2 * sum(d[i] * d[i + k] for i in range(n - k)) / n / c0
+        if k >= c * tau:
+            break
+    return max(tau, 1.0)
+
+
+def mean_se(v, tau):
+    """Mean of v and its standard error for a correlation time of tau rows:
+    sqrt(var(v) tau / n), var with n - 1."""
+    n = len(v)
+    m = sum(v) / n
+    return m, math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1) * tau / n)
+
+
 def trend(x, v, batches=10):
     """Least-squares slope of v against x through the `batches` batch means
     (each of an equal run of rows, as batch_mean's), and its standard error
@@ -186,16 +226,34 @@ class Run:
                 out[label] = (slope * TREND_SPAN / mean, se * TREND_SPAN / abs(mean), mean)
         return out
 
-    def window(self, lo, hi):
+    def windows(self, w0, w1, w2, se="tau"):
         """mu, T (phi's moments) and T of B (the B ellipsoid; None without
-        the column) over [lo, hi), each with its standard error."""
-        mu = [self.mu(r) for r in self.series if lo <= float(r["strain"]) < hi]
-        rows = [r for r in self.particles if lo <= float(r["strain"]) < hi]
-        if len(mu) < 20 or len(rows) < 20:
-            return None
-        tb = present(rows, "taylor_b_mean")
-        tb = batch_mean(tb) if len(tb) >= 20 else None
-        return batch_mean(mu), batch_mean([float(r["taylor_mean"]) for r in rows]), tb
+        the column) over [w0, w1) and over [w1, w2): per window a triple of
+        (mean, standard error), or None with fewer than 20 rows; and the
+        correlation times (strain units) of the span [w0, w2) by label.
+        se="tau": the errors from the span's integrated autocorrelation time;
+        "batches": each window's 10-batch-means error (tau not reported)."""
+        def on(rows, lo, hi):
+            return [r for r in rows if lo <= float(r["strain"]) < hi]
+        cols = (("mu", self.series, self.mu), ("T", self.particles, lambda r: float(r["taylor_mean"])),
+                ("T of B", self.particles, lambda r: float(r["taylor_b_mean"])))
+        out, taus = [[], []], {}
+        for label, rows, value in cols:
+            span = [r for r in on(rows, w0, w2) if label != "T of B" or r.get("taylor_b_mean") not in (None, "")]
+            parts = [[value(r) for r in span if lo <= float(r["strain"]) < hi] for lo, hi in ((w0, w1), (w1, w2))]
+            if len(parts[0]) < 20 or len(parts[1]) < 20:
+                for o in out:
+                    o.append(None)
+                continue
+            if se == "batches":
+                stats = [batch_mean(p) for p in parts]
+            else:
+                tau = integrated_time([value(r) for r in span])
+                taus[label] = tau * (w2 - w0) / len(span)
+                stats = [mean_se(p, tau) for p in parts]
+            for o, st in zip(out, stats):
+                o.append(st)
+        return [None if w[0] is None or w[1] is None else tuple(w) for w in out], taus
 
 
 SPREAD = "solid mean abs(y)"
@@ -239,11 +297,11 @@ def agree(a, b):
     return abs(m2 - m1) <= tol, tol
 
 
-def check(run, windows):
+def check(run, windows, se="tau"):
     rows = [r for r in run.series if int(r["step"]) > 0]
     reached = float(run.series[-1]["strain"])
     out = {"run": run.name, "grid": "x".join(map(str, run.grid)), "strain": reached, "phi": run.phi}
-    w = [run.window(windows[0], windows[1]), run.window(windows[1], windows[2])]
+    w, out["tau"] = run.windows(*windows, se=se)
     ok = reached >= windows[2] - 1e-6 and None not in w
     if None not in w:
         (mu1, t1, tb1), (mu2, t2, tb2) = w
@@ -322,12 +380,17 @@ def fmt(m):
     return f"{m[0]:.4f} ± {m[1]:.4f}"
 
 
+def taus(r):
+    t = r.get("tau", {})
+    return " / ".join(f"{t[k]:.2f}" if k in t else "-" for k in ("mu", "T"))
+
+
 def markdown(results, windows):
     w = windows
     lines = [f"| run | grid | strain | Phi | quantity | [{w[0]:g},{w[1]:g}) | [{w[1]:g},{w[2]:g}) | agree (tol) "
              "| T [{0:g},{1:g}) | T [{1:g},{2:g}) | agree (tol) | T of B [{0:g},{1:g}) | T of B [{1:g},{2:g}) | agree (tol) | det B (phi > 0.5) | projection: share removed per strain "
-             "| max share phi < 0.1 | max solid volume share phi < 0.1 | volume drift | wall s / strain | pass |".format(*w),
-             "|" + "---|" * 21]
+             "| max share phi < 0.1 | max solid volume share phi < 0.1 | volume drift | wall s / strain | tau of mu / T (strain) | pass |".format(*w),
+             "|" + "---|" * 22]
     for r in results:
         if "mu1" in r:
             cols = [r["mu_name"], fmt(r["mu1"]), fmt(r["mu2"]), f"{'yes' if r['mu_ok'] else 'NO'} ({r['tol_mu']:.4f})",
@@ -340,7 +403,7 @@ def markdown(results, windows):
             cols += ["-", "-", "-"]
         lines.append("| " + " | ".join([r["run"], r["grid"], f"{r['strain']:.1f}", f"{r['phi']:.4f}"] + cols + [
             f"[{r['detb'][0]:.4f}, {r['detb'][1]:.4f}]", f"{r['removed_max']:+.1e}", f"{r['lowphi_max']:.3f}",
-            "-" if math.isnan(r["shed_max"]) else f"{r['shed_max']:.3f}", f"{r['volume_drift']:.1e}", f"{r['wall_per_strain']:.0f}", "PASS" if r["pass"] else "FAIL"]) + " |")
+            "-" if math.isnan(r["shed_max"]) else f"{r['shed_max']:.3f}", f"{r['volume_drift']:.1e}", f"{r['wall_per_strain']:.0f}", taus(r), "PASS" if r["pass"] else "FAIL"]) + " |")
     lines += ["", f"Linear trends over [{w[0]:g}, {w[2]:g}) (not a condition of the issue's): each quantity's fitted"
               f" change per {TREND_SPAN} strain units, relative to its mean, ± one standard error (10 batch means);"
               " 'drifts' where beyond 2 standard errors.", ""]
@@ -518,6 +581,8 @@ def main():
     c.add_argument("runs", nargs="+")
     c.add_argument("--windows", default="10,30,50")
     c.add_argument("--md")
+    c.add_argument("--se", choices=("tau", "batches"), default="tau",
+                   help="the windows' standard errors: the span's autocorrelation time (default) or each window's 10 batch means")
     f = sub.add_parser("figure")
     f.add_argument("out")
     f.add_argument("pairs", nargs="+")
@@ -558,7 +623,7 @@ def main():
     results = []
     for folder in a.runs:
         try:
-            results.append(check(Run(folder), windows))
+            results.append(check(Run(folder), windows, a.se))
         except (OSError, KeyError, ValueError) as e:
             sys.exit(f"stationarity: cannot read the run in {folder}: {e}")
     text = markdown(results, windows)

@@ -6,7 +6,9 @@ window test (its windows differ by 0.8%, under the 1% bound) and its trend
 is reported as a drift of 1.6% per 40 strain units; det B out of [0.97,
 1.03], the stress in low-phi cells and a volume change each fail the run;
 the trend of where a suspension's solid sits across the gap (profiles);
-and the count of phi's connected bodies that the shape report gives.
+the count of phi's connected bodies that the shape report gives; and the
+windows' standard error with correlated data (the autocorrelation time
+read from AR(1) series, and the false-alarm rate of the window test).
 Exits non-zero if any check failed."""
 import csv
 import json
@@ -209,5 +211,58 @@ with tempfile.TemporaryDirectory() as tmp:
     got = [x.strip() for x in last]
     want = ["threads", "2.0", "100.0%", "6.2%", "18.8%", "75.0%", "50.0%"]
     check("low-phi stress by distance (thread, drop)", got[:7] == want, f"{got} (want {want} ...)" + out.stderr[-300:])
+
+# 9. The windows' standard error with correlated data. AR(1) series
+#    x_k = rho x_{k-1} + e_k have tau = (1 + rho) / (1 - rho) rows.
+def ar1(n, rho, rng):
+    x, v = [], rng.gauss(0, 1) / math.sqrt(1 - rho * rho)  # started stationary
+    for _ in range(n):
+        v = rho * v + rng.gauss(0, 1)
+        x.append(v)
+    return x
+
+
+rng = random.Random(5)
+# 9a. integrated_time reads a known tau from a long series. Its own
+#     relative error is about sqrt(2 (2 M + 1) / n) (Sokal 1997), M ~ 5 tau
+#     the window: 6% for tau 9 and 2% for white noise over 50000 rows;
+#     2.5 of those allowed.
+got = st.integrated_time(ar1(50000, 0.8, rng))
+check("integrated time of AR(1), tau 9", abs(got / 9 - 1) < 0.15, f"{got:.2f} rows (want 9)")
+got = st.integrated_time(ar1(50000, 0.0, rng))
+check("integrated time of white noise, tau 1", abs(got - 1) < 0.05, f"{got:.3f} rows (want 1)")
+
+# 9b. The false-alarm rate of the window test on stationary data. The
+#     span's correlation time is 3 strain units at 10 rows a strain (tau 30
+#     rows, as the dense runs' T: 2-4 strain units), windows of 20 strain
+#     (200 rows). At 2 true standard errors 4.6% of pairs fail. Each
+#     window's own 10 batch means (20 rows a batch, under tau) make the
+#     error too small: 22.5% false alarms here, the span's tau 9.5% (the
+#     span's tau is itself estimated from 13 correlation times, a little
+#     low). Limits: the span's tau under 12%, the batches over 15%, each
+#     more than one sampling error of 200 pairs (2%, 3%) from what it read.
+rho = 29 / 31
+alarms = {"batches": 0, "tau": 0}
+pairs = 200
+for _ in range(pairs):
+    x = ar1(400, rho, rng)
+    a, b = x[:200], x[200:]
+    tau = st.integrated_time(x)
+    for name, (m1, s1), (m2, s2) in (("batches", st.batch_mean(a), st.batch_mean(b)),
+                                     ("tau", st.mean_se(a, tau), st.mean_se(b, tau))):
+        alarms[name] += abs(m2 - m1) > 2 * math.hypot(s1, s2)
+rate = {k: v / pairs for k, v in alarms.items()}
+check("false alarms with the span's tau near nominal", rate["tau"] < 0.12, f"{100 * rate['tau']:.1f}% (nominal 4.6%)")
+check("false alarms with 10 batch means too many", rate["batches"] > 0.15, f"{100 * rate['batches']:.1f}%")
+
+# 9c. check() reports the span's tau in strain units: the steady run's white
+#     noise (40 rows a strain) has tau 1 row, 0.025 strain units (1600 rows
+#     of span: the estimate within 8%; 20% allowed).
+with tempfile.TemporaryDirectory() as tmp:
+    r = run_check(write_run(os.path.join(tmp, "white")))
+    got = r["tau"]
+    check("tau reported in strain units", all(abs(got[k] / 0.025 - 1) < 0.2 for k in ("mu", "T")), f"{got}")
+    b = st.check(st.Run(os.path.join(tmp, "white")), [10.0, 30.0, 50.0], se="batches")
+    check("--se batches: no tau, a verdict", b["tau"] == {} and b["pass"], f"{b['tau']}, {b['pass']}")
 
 finish()
