@@ -14,7 +14,8 @@
 # per particle, particles.colour_fields = 67, and the colours' tails cut at
 # phi's 1e-10, particles.colour_cut: the option until round 23), colours6 and
 # colours4 (the same with colour_cut = 1e-6 and 1e-4, the option's default
-# since round 23).
+# since round 23: with one colour per sphere the default numerics since round
+# 24; every other variant but issue pins one phi field, colour_fields = 0).
 #   perf/solid_cost.sh                      # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
 #   VARIANTS="issue old new" perf/solid_cost.sh
 # Environment: ROUNDS (default 3), VARIANTS (default "old new"),
@@ -48,8 +49,10 @@ for r in $(seq 1 "$rounds"); do
     [ $v = colours ] && extra+=(--set particles.colour_cut=1e-10)
     [ $v = colours6 ] && extra+=(--set particles.colour_cut=1e-6)
     [ $v = colours4 ] && extra+=(--set particles.colour_cut=1e-4)
-    # and the gap it knows (min_gap alone; the issue-time code has no min_gap_cells)
+    # and the gap it knows (min_gap alone; the issue-time code has no min_gap_cells),
+    # and one phi field where the variant has no colours (they are the default since round 24)
     [ $v != issue ] && extra+=(--set particles.min_gap_cells=0)
+    case $v in issue | colours | colours6 | colours4) ;; *) extra+=(--set particles.colour_fields=0) ;; esac
     # independent draws: the placement the issue-time code knows (and the baselines')
     scripts/toolchain.sh run "$run_bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       --set 'particles.placement="random"' \

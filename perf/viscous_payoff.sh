@@ -31,8 +31,9 @@ grid() { echo --set grid.nx=$(($1 * $2)) --set grid.ny=$(($1 * $3)) --set grid.n
 # dilute: the reference box 16r x 10r x 16r; dense: its case's box 8r x 6r x 8r
 dilute=(cases/phi0016_ca02.toml $(grid $r 16 10))
 dilute_c=(cases/phi0016_ca02.toml $(grid $c 16 10))
-dense=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0 $(grid $r 8 6))
-dense_c=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0 $(grid $c 8 6))
+# one phi field, as the committed results (colours are the default since round 24)
+dense=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0 --set particles.colour_fields=0 $(grid $r 8 6))
+dense_c=(cases/hard/phi011_ca02_k001.toml --set particles.viscosity_ratio=1.0 --set particles.colour_fields=0 $(grid $c 8 6))
 (run dilute_explicit_r$r "${dilute[0]}" explicit "${dilute[@]:1}") &
 (run dilute_implicit_r$r "${dilute[0]}" implicit "${dilute[@]:1}"
  run dense_explicit_r$r "${dense[0]}" explicit "${dense[@]:1}"

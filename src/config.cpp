@@ -22,6 +22,10 @@ class TableReader {
   }
 
   bool present() const { return table_ != nullptr; }
+  bool is_string(const char* key) const {
+    const toml::node* n = table_ ? table_->get(key) : nullptr;
+    return n && n->is_string();
+  }
 
   template <class T>
   bool read(const char* key, T& out, bool required) {
@@ -353,8 +357,15 @@ Config parse_config(const std::string& text, const std::string& name,
       if (!(p.b_fallback_det >= 0 && p.b_fallback_det < 1))
         throw InputError("'particles.b_fallback_det' must be in [0, 1) (got " +
                          std::to_string(p.b_fallback_det) + ")");
-      r.read("colour_fields", p.colour_fields, false);
-      r.non_negative("colour_fields", p.colour_fields);
+      if (r.is_string("colour_fields")) {
+        std::string v;
+        r.read("colour_fields", v, false);
+        if (v != "auto")
+          throw InputError("'particles.colour_fields' must be an integer >= 0 or \"auto\" (got \"" + v + "\")");
+        p.colour_fields = ParticleConfig::auto_colours;
+      } else if (r.read("colour_fields", p.colour_fields, false)) {
+        r.non_negative("colour_fields", p.colour_fields);
+      }
       if (p.colour_fields > 0 && p.shape != "spheres")
         throw InputError("'particles.colour_fields' needs 'particles.shape = \"spheres\"'");
       r.read("colour_cut", p.colour_cut, false);

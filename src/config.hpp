@@ -59,8 +59,11 @@ struct ParticleConfig {
   // about its centre (a deformed sphere of the same volume). Identity: spheres
   Real initial_b[6] = {1, 0, 0, 1, 0, 1};
   // phi as the sum of this many colour fields, particle m in colour m % n,
-  // each transported on its own (src/colour_fields.hpp); 0: one phi field
-  int colour_fields = 0;
+  // each transported on its own (src/colour_fields.hpp); 0: one phi field;
+  // auto_colours ("auto", the default): one per sphere where there are two
+  // or more (colour_count, src/particle_seeding.hpp)
+  static constexpr int auto_colours = -1;
+  int colour_fields = auto_colours;
   // a colour's values below this are set to 0 (their volume goes back to its
   // interface, as phi's below 1e-10): the tails set the boxes it is worked
   // on. 1e-4: the 67-colour dense step 1.22x the issue-time step instead of

@@ -113,7 +113,14 @@ std::map<std::string, double> FieldFile::read(const std::string& path, const std
   for (const auto& it : items) {
     if (H5Lexists(file, it.name.c_str(), H5P_DEFAULT) <= 0) {
       H5Fclose(file);
-      throw InputError("restart file '" + path + "' has no dataset '" + it.name + "'");
+      // a case with more colour fields than the run that wrote the checkpoint
+      // (round 24 made one per sphere the default; one phi before)
+      const std::string hint =
+          it.name.rfind("colour_", 0) == 0
+              ? " (it was written with fewer colour fields: give 'particles.colour_fields' its run's value, 0 "
+                "for one phi field)"
+              : "";
+      throw InputError("restart file '" + path + "' has no dataset '" + it.name + "'" + hint);
     }
     hid_t dset = H5Dopen2(file, it.name.c_str(), H5P_DEFAULT);
     hid_t fspace = H5Dget_space(dset);

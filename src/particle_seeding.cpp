@@ -42,6 +42,14 @@ int sphere_count(const Config& c) {
   return std::max(1, int(std::lround(p.volume_fraction * v / vs)));
 }
 
+int colour_count(const Config& c) {
+  const ParticleConfig& p = c.particles;
+  if (p.shape != "spheres") return 0;
+  const int n = sphere_count(c);
+  if (p.colour_fields == ParticleConfig::auto_colours) return n >= 2 ? n : 0;
+  return std::min(p.colour_fields, n);  // more colours than spheres would only add empty fields
+}
+
 double largest_stretch(const Real* b) {
   // the largest eigenvalue of the symmetric B, in closed form (Smith 1961)
   const double q = (b[0] + b[3] + b[5]) / 3;

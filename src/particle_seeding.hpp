@@ -14,6 +14,12 @@ struct Sphere {
 // Number of spheres of the case: count, or round(Phi V_box / (4/3 pi r^3)).
 int sphere_count(const Config& cfg);
 
+// Number of colour fields phi is split into (src/colour_fields.hpp): with
+// particles.colour_fields = "auto" (the default) one per sphere where there
+// are two or more, none for a lone sphere (nothing to fuse with) or another
+// shape; otherwise the value given, at most one per sphere.
+int colour_count(const Config& cfg);
+
 // lambda_max of a symmetric 3x3 matrix given as (xx, xy, xz, yy, yz, zz)
 double largest_stretch(const Real* b);
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "output.hpp"
+#include "particle_seeding.hpp"
 #include "run_averages.hpp"
 #include "run_guard.hpp"
 #include "version.hpp"
@@ -58,6 +59,7 @@ void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r
   if (s.solid()) {
     j["case"]["particles"] = {
         {"count", particle_count},
+        {"colour_fields", c.particles.shape == "spheres" ? colour_count(c) : 0},
         {"volume_fraction", f.solid_volume / (c.grid.lx * c.grid.ly * c.grid.lz)},
         {"radius", c.particles.radius},
         {"capillary",
@@ -125,6 +127,16 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
         << (restarted ? "restarted from " + cfg.restart + " at step " + std::to_string(solver.step)
                       : std::string("initial state: ") + cfg.initial.type)
         << ", end time " << t_end << " (strain " << t_end * gamma << ")\n";
+    if (solver.solid() && cfg.particles.shape == "spheres") {
+      // how phi is carried, and the colours' memory (three full-grid arrays each)
+      const int n = colour_count(cfg);
+      log << "particles: " << sphere_count(cfg) << " sphere(s), "
+          << (n > 0 ? std::to_string(n) + " colour field(s), " +
+                          std::to_string(int(std::lround(24e-6 * double(g.sx()) * g.sy() * g.sz() * n))) +
+                          " MB a rank"
+                    : std::string("one phi field"))
+          << "\n";
+    }
   }
   if (!restarted) {
     series_rows(diag.scalars(), 0);

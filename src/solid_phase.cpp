@@ -30,10 +30,8 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   stress_.g_rho = cfg.shear_modulus() / cfg.fluid.rho;
   phi_scheme_.thinc_beta = cfg.particles.phi_scheme != "weno5" ? cfg.particles.thinc_beta : 0;
   phi_scheme_.multi_d = cfg.particles.phi_scheme == "mthinc";
-  if (cfg.particles.colour_fields > 0) {
-    // more colours than particles would only add empty fields
-    colours_ =
-        ColourFields(g, std::min(cfg.particles.colour_fields, sphere_count(cfg)), cfg.particles.colour_cut);
+  if (const int n = colour_count(cfg); n > 0) {
+    colours_ = ColourFields(g, n, cfg.particles.colour_cut);
     phi_scheme_.phi_from_colours = true;
   }
   extend_b_ = cfg.particles.b_extension;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "config.hpp"
+#include "particle_seeding.hpp"
 
 using namespace softflow;
 
@@ -106,6 +107,29 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
   expect_error(
       error_of(good, {"particles.radius=0.2", "particles.count=3", "particles.placement=\"lattice\""}),
       "'particles.placement' must be \"stratified\", \"random\" or \"centre\" (got \"lattice\")");
+}
+
+// particles.colour_fields: "auto" (the default) gives one colour per sphere
+// where there are two or more and none for a lone sphere; a number is kept
+// (at most one per sphere); anything else is named
+TEST(Config, ColourFieldsAutoIsOnePerSphereFromTwo) {
+  auto colours = [](std::vector<std::string> o) {
+    o.push_back("particles.shear_modulus=1.0");
+    return colour_count(parse_config(good, "case", o));
+  };
+  const std::string r = "particles.radius=0.1";
+  EXPECT_EQ(colours({r, "particles.count=3"}), 3);
+  EXPECT_EQ(colours({r, "particles.count=3", "particles.colour_fields=\"auto\""}), 3);
+  EXPECT_EQ(colours({r, "particles.count=1", "particles.placement=\"centre\""}), 0);
+  EXPECT_EQ(colours({r, "particles.count=3", "particles.colour_fields=0"}), 0);
+  EXPECT_EQ(colours({r, "particles.count=3", "particles.colour_fields=2"}), 2);
+  EXPECT_EQ(colours({r, "particles.count=3", "particles.colour_fields=1000"}), 3);
+  EXPECT_EQ(parse_config(good, "case", {r, "particles.count=3", "particles.shear_modulus=1.0"}).particles.colour_fields,
+            ParticleConfig::auto_colours);
+  expect_error(error_of(good, {r, "particles.count=3", "particles.shear_modulus=1.0", "particles.colour_fields=\"all\""}),
+               "'particles.colour_fields' must be an integer >= 0 or \"auto\" (got \"all\")");
+  expect_error(error_of(good, {r, "particles.count=3", "particles.shear_modulus=1.0", "particles.colour_fields=-2"}),
+               "'particles.colour_fields' must not be negative (got -2)");
 }
 
 TEST(Config, WrongTypesAreRejected) {
