@@ -233,13 +233,12 @@ class Run:
         correlation times (strain units) of the span [w0, w2) by label.
         se="tau": the errors from the span's integrated autocorrelation time;
         "batches": each window's 10-batch-means error (tau not reported)."""
-        def on(rows, lo, hi):
-            return [r for r in rows if lo <= float(r["strain"]) < hi]
         cols = (("mu", self.series, self.mu), ("T", self.particles, lambda r: float(r["taylor_mean"])),
                 ("T of B", self.particles, lambda r: float(r["taylor_b_mean"])))
         out, taus = [[], []], {}
         for label, rows, value in cols:
-            span = [r for r in on(rows, w0, w2) if label != "T of B" or r.get("taylor_b_mean") not in (None, "")]
+            span = [r for r in rows if w0 <= float(r["strain"]) < w2
+                    and (label != "T of B" or r.get("taylor_b_mean") not in (None, ""))]
             parts = [[value(r) for r in span if lo <= float(r["strain"]) < hi] for lo, hi in ((w0, w1), (w1, w2))]
             if len(parts[0]) < 20 or len(parts[1]) < 20:
                 for o in out:

@@ -59,7 +59,7 @@ void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r
   if (s.solid()) {
     j["case"]["particles"] = {
         {"count", particle_count},
-        {"colour_fields", c.particles.shape == "spheres" ? colour_count(c) : 0},
+        {"colour_fields", s.solid()->colours().size()},
         {"volume_fraction", f.solid_volume / (c.grid.lx * c.grid.ly * c.grid.lz)},
         {"radius", c.particles.radius},
         {"capillary",
@@ -129,7 +129,7 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
         << ", end time " << t_end << " (strain " << t_end * gamma << ")\n";
     if (solver.solid() && cfg.particles.shape == "spheres") {
       // how phi is carried, and the colours' memory (three full-grid arrays each)
-      const int n = colour_count(cfg);
+      const int n = solver.solid()->colours().size();
       log << "particles: " << sphere_count(cfg) << " sphere(s), "
           << (n > 0 ? std::to_string(n) + " colour field(s), " +
                           std::to_string(int(std::lround(24e-6 * double(g.sx()) * g.sy() * g.sz() * n))) +
