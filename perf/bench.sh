@@ -42,12 +42,10 @@ for scene in $scenes; do
   tmp=output/bench-tmp  # inside the repository: the toolchain root sees it at the same relative path
   mkdir -p "$tmp"
   # the dense scene keeps the independent draws of the baselines (rounds <= 20):
-  # the stratified default would move its 67 spheres; and their one phi field
-  # (colours, one per sphere, the default since round 24, cost the same:
-  # perf/solid_cost.sh's colours4 variant, results/README.md round 23)
+  # the stratified default would move its 67 spheres; it runs the default
+  # numerics, one colour field per sphere (baselines re-recorded in round 25)
   scene_args=()
-  [ "$scene" = dense ] && scene_args=(--set 'particles.placement="random"' --set particles.min_gap_cells=0
-    --set particles.colour_fields=0)
+  [ "$scene" = dense ] && scene_args=(--set 'particles.placement="random"' --set particles.min_gap_cells=0)
   scripts/toolchain.sh run "${launch[@]}" "$bin" "$(case_of "$scene")" "${scene_args[@]}" \
     --set grid.nx="$nx" --set grid.ny="$ny" --set grid.nz="$nz" \
     --warmup "${WARMUP:-3}" --steps "${STEPS:-5}" --reps "${REPS:-5}" "${class_args[@]}" \
