@@ -522,7 +522,7 @@ def halves_table(scheme, title):
     return lines + [""]
 
 
-NARROW_PPRS = (4, 5, 6, 7, 8, 12)
+NARROW_PPRS = (4, 5, 6, 7, 8, 10, 12)
 
 
 def narrow_table(csv_rows, scheme="thinc", ca=0.2, k=10):
