@@ -62,9 +62,10 @@ band's share. Solid drawn out as threads that stay attached shows beyond
 1.25 and connected; shed drops show as detached.
 windows RUN_DIR... [--width W]: per consecutive strain window of width W
 (default 10) the means of mu (or [mu]), T and T of B, and for dense runs
-where the solid sits across the gap (<|y|> / r and its share within one
-radius of a wall): how a run settles, and whether its mu follows the
-particles' migration.
+where the solid sits across the gap (<|y|> / r, its share within one
+radius of a wall, and the mean phi of the cells next to the walls): how a
+run settles, and whether its mu follows the particles' migration or solid
+spreading along a wall.
 figure: mu (or [mu]) and T against strain for each NEW_DIR, with OLD_DIR (the
 old scheme's run of the same case) beside it; --theory adds the exact
 dilute theory's own start-up from a sphere at that Ca (and K, default 1),
@@ -196,7 +197,7 @@ class Run:
         # where the solid sits across the gap, per profiles row (dense runs):
         # read once, for the trend check and the window table
         self.across = [] if self.dilute else solid_across_gap(folder, self.box[1] / 2)
-        self.spread = [(x, y) for x, y, _ in self.across]
+        self.spread = [(x, y) for x, y, _, _ in self.across]
 
     def strain(self, rows):
         return [float(r["strain"]) for r in rows]
@@ -259,10 +260,15 @@ SPREAD = "solid mean abs(y)"
 
 
 def solid_across_gap(folder, half_gap):
-    """[(strain, <|y|>, wall share)] at each profiles row: the phi-weighted
-    mean distance of the solid from mid-gap, and the share of the solid in
-    rows whose centre lies within one radius (1 in the run's lengths) of a
-    wall at |y| = half_gap (empty without profiles_series.csv)."""
+    """[(strain, <|y|>, wall share, wall cells)] at each profiles row: the
+    phi-weighted mean distance of the solid from mid-gap, the share of the
+    solid in rows whose centre lies within one radius (1 in the run's
+    lengths) of a wall at |y| = half_gap, and the mean phi of the cells next
+    to the walls (the two outermost rows). A sphere's centre stays a radius
+    from a wall, so at 4 points per radius those cells hold at most the caps
+    of spheres touching it (a close-packed layer of them: phi 0.21); more is
+    solid spread along the wall (results/README.md, round 28). Empty without
+    profiles_series.csv."""
     path = os.path.join(folder, "profiles_series.csv")
     if not os.path.exists(path):
         return []
@@ -270,17 +276,22 @@ def solid_across_gap(folder, half_gap):
     for r in csv.DictReader(open(path)):
         if r["y_centre"] in ("", None):  # the wall faces' row
             continue
-        a = acc.setdefault(float(r["strain"]), [0.0, 0.0, 0.0])
+        a = acc.setdefault(float(r["strain"]), [0.0, 0.0, 0.0, -1.0, 0.0, 0])
         phi, y = float(r["phi_mean"]), abs(float(r["y_centre"]))
         a[0] += phi * y
         a[1] += phi
         a[2] += phi * (y > half_gap - 1)
-    return [(x, a[0] / a[1], a[2] / a[1]) for x, a in sorted(acc.items()) if a[1] > 0]
+        if y > a[3] + 1e-9:
+            a[3:6] = [y, 0.0, 0]
+        if abs(y - a[3]) <= 1e-9:
+            a[4] += phi
+            a[5] += 1
+    return [(x, a[0] / a[1], a[2] / a[1], a[4] / a[5]) for x, a in sorted(acc.items()) if a[1] > 0]
 
 
 def solid_spread(folder, half_gap=math.inf):
     """[(strain, <|y|>)] (solid_across_gap's)."""
-    return [(x, y) for x, y, _ in solid_across_gap(folder, half_gap)]
+    return [(x, y) for x, y, _, _ in solid_across_gap(folder, half_gap)]
 
 
 def present(rows, name):
@@ -353,12 +364,13 @@ def window_means(run, width):
         hi = lo + width
         inside = lambda x: lo <= x < hi  # noqa: E731
         parts = [r for r in run.particles if inside(float(r["strain"]))]
-        gap = [(y, w) for x, y, w in run.across if inside(x)]
+        gap = [(y, w, c) for x, y, w, c in run.across if inside(x)]
         out.append({"from": lo, "to": min(hi, reached),
                     "mu": mean([run.mu(r) for r in run.series if int(r["step"]) > 0 and inside(float(r["strain"]))]),
                     "T": mean([float(r["taylor_mean"]) for r in parts]),
                     "T_B": mean(present(parts, "taylor_b_mean")),
-                    "abs_y": mean([y for y, _ in gap]), "wall": mean([w for _, w in gap])})
+                    "abs_y": mean([y for y, _, _ in gap]), "wall": mean([w for _, w, _ in gap]),
+                    "wall_cells": mean([c for _, _, c in gap])})
         lo = hi
     return out
 
@@ -366,12 +378,13 @@ def window_means(run, width):
 def windows_markdown(run, rows):
     nan = lambda v, f: "-" if math.isnan(v) else f.format(v)  # noqa: E731
     lines = [f"{run.name} ({'x'.join(map(str, run.grid))}):", "",
-             f"| strain | {run.mu_name} | T | T of B | solid <abs(y)> / r | solid within r of a wall |",
-             "|---|---|---|---|---|---|"]
+             f"| strain | {run.mu_name} | T | T of B | solid <abs(y)> / r | solid within r of a wall "
+             "| phi in the cells next to a wall |",
+             "|---|---|---|---|---|---|---|"]
     for w in rows:
         lines.append(f"| [{w['from']:g}, {w['to']:.4g}) | {nan(w['mu'], '{:.4f}')} | {nan(w['T'], '{:.4f}')} | "
                      f"{nan(w['T_B'], '{:.4f}')} | {nan(w['abs_y'], '{:.3f}')} | "
-                     f"{nan(100 * w['wall'], '{:.2f}%')} |")
+                     f"{nan(100 * w['wall'], '{:.2f}%')} | {nan(w['wall_cells'], '{:.3f}')} |")
     return "\n".join(lines) + "\n"
 
 

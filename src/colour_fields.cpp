@@ -173,6 +173,72 @@ void ColourFields::sum_into(const Field3& phi, const Range3& where) const {
   }
 }
 
+// Two particles' colours overlap where they come within a cell of each
+// other: each colour's reconstruction fills the cell between them on its own
+// (MTHINC compresses each towards 1), and nothing in one colour's transport
+// sees the other. The exact transport keeps the sum at most 1 (a volume
+// fraction moved by one velocity), so the overlap is a discretisation error,
+// and the mixture, which reads min(phi, 1), loses its volume. The bound: where
+// the sum S > 1, every colour is scaled by 1 / S (the cell is then exactly
+// full); the volume this takes from colour c, e_c = sum c (1 - 1 / S), goes
+// back to it where S < 1, in proportion to c (1 - S), the room its share of
+// the cell leaves: c <- c + (e_c / W_c) c (1 - S), W_c = sum c (1 - S). With
+// e_c <= W_c (the rest is dropped, as phi_redistribute does, and would show
+// in the volume diagnostic) a cell gains at most (1 - S) S <= 1 - S, so the
+// sum stays at most 1, each colour in [0, 1], and each colour's volume is
+// conserved to round-off. It is the multi-material VOF's "the fractions sum
+// to one", applied as phi's own bounded redistribution
+// (kernels/solid_transport.hpp) applies [0, 1] to one field. Colour c is 0
+// outside its update boxes, so only they are visited.
+bool ColourFields::bound_sum(const Field3& phi, const std::function<void(Real*, int)>& allreduce_sum) {
+  const int n = size();
+  if (n == 0) return false;
+  for (int c = 0; c < n; ++c) {
+    const Field3 q = c_[c];
+    Real e = 0, w = 0;
+    for (int b = 0; b < update_[c].count; ++b) {
+      Real eb = 0, wb = 0;
+      par_reduce(
+          "colour_overlap_excess", update_[c].box[b],
+          KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
+            const Real sum = phi(i, j, k);
+            if (sum > 1) s += q(i, j, k) * (1 - 1 / sum);
+          },
+          Kokkos::Sum<Real>(eb));
+      par_reduce(
+          "colour_overlap_room", update_[c].box[b],
+          KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
+            const Real sum = phi(i, j, k);
+            if (sum < 1) s += q(i, j, k) * (1 - sum);
+          },
+          Kokkos::Sum<Real>(wb));
+      e += eb;
+      w += wb;
+    }
+    sums_[2 * c] = e;
+    sums_[2 * c + 1] = w;
+  }
+  allreduce_sum(sums_.data(), 2 * n);
+  bool any = false;
+  for (int c = 0; c < n; ++c) any |= sums_[2 * c] > 0;
+  if (!any) return false;
+  for (int c = 0; c < n; ++c) {
+    const Field3 q = c_[c];
+    const Real e = sums_[2 * c], w = sums_[2 * c + 1];
+    const Real a = w > 0 ? Kokkos::fmin(Real(1), e / w) : Real(0);
+    for (int b = 0; b < update_[c].count; ++b)
+      par_for(
+          "colour_overlap_bound", update_[c].box[b], KOKKOS_LAMBDA(int i, int j, int k) {
+            const Real sum = phi(i, j, k);
+            if (sum > 1)
+              q(i, j, k) /= sum;
+            else
+              q(i, j, k) += a * q(i, j, k) * (1 - sum);
+          });
+  }
+  return true;
+}
+
 void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
   ghost_list_.clear();
   for (int c = 0; c < size(); ++c)

@@ -376,6 +376,7 @@ Config parse_config(const std::string& text, const std::string& name,
         got << p.colour_cut;  // 1e-12, not to_string's 0.000000
         throw InputError("'particles.colour_cut' must be in [1e-10, 1e-3] (got " + got.str() + ")");
       }
+      r.read("colour_sum_bound", p.colour_sum_bound, false);
       if (r.read_numbers("initial_b", p.initial_b, 6, false)) {
         if (p.shape != "spheres")
           throw InputError("'particles.initial_b' needs 'particles.shape = \"spheres\"'");

@@ -69,6 +69,10 @@ struct ParticleConfig {
   // on. 1e-4: the 67-colour dense step 1.22x the issue-time step instead of
   // 1.56x, and the dense cases it was run on pass (results/README.md, round 23)
   Real colour_cut = 1e-4;
+  // the colours' sum kept at most 1, each colour's volume conserved
+  // (ColourFields::bound_sum): where particles meet closer than a cell their
+  // colours otherwise overlap and the mixture loses the overlap's solid
+  bool colour_sum_bound = true;
   bool deformed_start() const {
     return initial_b[0] != 1 || initial_b[1] != 0 || initial_b[2] != 0 || initial_b[3] != 1 ||
            initial_b[4] != 0 || initial_b[5] != 1;

@@ -86,6 +86,52 @@ void reach_metric(const double ax[3], const double vec[3][3], double r, double o
   }
 }
 
+// a cell's moments for particle m, at offset d from its centroid, into row m
+// of the moments: sum f, f d, f d d, f B, and the same first ten over the
+// core (f > 1/2), whose ellipsoid sets the reach
+template <class Moments>
+struct AddCell {
+  Moments mom;
+  SolidViews sv;
+  KOKKOS_INLINE_FUNCTION void operator()(int m, Real f, const Real d[3], int i, int j, int k) const {
+    const Real mv[16] = {f,
+                         f * d[0],
+                         f * d[1],
+                         f * d[2],
+                         f * d[0] * d[0],
+                         f * d[0] * d[1],
+                         f * d[0] * d[2],
+                         f * d[1] * d[1],
+                         f * d[1] * d[2],
+                         f * d[2] * d[2],
+                         f * sv.B(0, i, j, k),
+                         f * sv.B(1, i, j, k),
+                         f * sv.B(2, i, j, k),
+                         f * sv.B(3, i, j, k),
+                         f * sv.B(4, i, j, k),
+                         f * sv.B(5, i, j, k)};
+    for (int e = 0; e < 16; ++e) Kokkos::atomic_add(&mom(m, e), mv[e]);
+    if (f <= Real(0.5)) return;
+    for (int e = 0; e < 10; ++e) Kokkos::atomic_add(&mom(m, 16 + e), mv[e]);
+  }
+};
+
+// the offset d of cell (i, j, k) from particle m's centroid (periodic in x
+// and z), and d^T M d with M its reach metric (within reach below 1)
+template <class Centres, class Metric>
+struct ReachOf {
+  Centres c;
+  Metric M;
+  Grid g;
+  KOKKOS_INLINE_FUNCTION Real operator()(int m, int i, int j, int k, Real d[3]) const {
+    d[0] = g.xc(i) - c(m, 0), d[1] = g.yc(j) - c(m, 1), d[2] = g.zc(k) - c(m, 2);
+    d[0] -= g.lx * Kokkos::round(d[0] / g.lx);
+    d[2] -= g.lz * Kokkos::round(d[2] / g.lz);
+    return M(m, 0) * d[0] * d[0] + M(m, 3) * d[1] * d[1] + M(m, 5) * d[2] * d[2] +
+           2 * (M(m, 1) * d[0] * d[1] + M(m, 2) * d[0] * d[2] + M(m, 4) * d[1] * d[2]);
+  }
+};
+
 }  // namespace
 
 std::vector<ParticleShape> ParticleTracker::from_spheres(const std::vector<Sphere>& s,
@@ -135,43 +181,42 @@ void ParticleTracker::update() {
   auto M = reach_;
   auto mom = moments_;
   const Real lx = g.lx, lz = g.lz;
-  par_for(
-      "tracker_moments", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const Real f = fraction(sv.phi(i, j, k));
-        if (f <= 0) return;
-        const Real x = g.xc(i), y = g.yc(j), z = g.zc(k);
-        int best = -1;
-        Real bd = 1, bx = 0, by = 0, bz = 0;  // within reach: d^T M d < 1
-        for (int m = 0; m < n; ++m) {
-          Real dx = x - c(m, 0), dy = y - c(m, 1), dz = z - c(m, 2);
-          dx -= lx * Kokkos::round(dx / lx);
-          dz -= lz * Kokkos::round(dz / lz);
-          const Real d2 = M(m, 0) * dx * dx + M(m, 3) * dy * dy + M(m, 5) * dz * dz +
-                          2 * (M(m, 1) * dx * dy + M(m, 2) * dx * dz + M(m, 4) * dy * dz);
-          if (d2 < bd) bd = d2, best = m, bx = dx, by = dy, bz = dz;
-        }
-        if (best < 0) return;
-        const Real mv[n_moments] = {f,
-                                    f * bx,
-                                    f * by,
-                                    f * bz,
-                                    f * bx * bx,
-                                    f * bx * by,
-                                    f * bx * bz,
-                                    f * by * by,
-                                    f * by * bz,
-                                    f * bz * bz,
-                                    f * sv.B(0, i, j, k),
-                                    f * sv.B(1, i, j, k),
-                                    f * sv.B(2, i, j, k),
-                                    f * sv.B(3, i, j, k),
-                                    f * sv.B(4, i, j, k),
-                                    f * sv.B(5, i, j, k)};
-        for (int e = 0; e < 16; ++e) Kokkos::atomic_add(&mom(best, e), mv[e]);
-        if (f <= Real(0.5)) return;
-        // the core, phi > 0.5: its ellipsoid sets the reach
-        for (int e = 0; e < 10; ++e) Kokkos::atomic_add(&mom(best, 16 + e), mv[e]);
-      });
+  const AddCell<decltype(moments_)> add{mom, sv};
+  const ReachOf<decltype(centres_), decltype(reach_)> reach{c, M, g};
+  const ColourFields& colours = s_.solid()->colours();
+  if (colours.size() == n) {
+    // one colour per particle: each particle is its own colour's cells within
+    // its reach, whoever else is near. Splitting the summed phi between
+    // touching particles by the nearest reach gives each a piece of the
+    // other; at Ca = 2, Phi = 0.11, 4 ppr that read T 0.50-0.64 where the
+    // colours held 0.72-0.76 and B 0.71-0.73 (results/README.md, round 28)
+    for (int m = 0; m < n; ++m) {
+      const Field3 q = colours.colour(m);
+      const ColourBoxes& on = colours.update_boxes(m);  // it is 0 outside them
+      for (int b = 0; b < on.count; ++b)
+        par_for(
+            "tracker_colour_moments", on.box[b], KOKKOS_LAMBDA(int i, int j, int k) {
+              const Real f = fraction(q(i, j, k));
+              if (f <= 0) return;
+              Real d[3];
+              if (reach(m, i, j, k, d) < 1) add(m, f, d, i, j, k);
+            });
+    }
+  } else {
+    par_for(
+        "tracker_moments", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          const Real f = fraction(sv.phi(i, j, k));
+          if (f <= 0) return;
+          int best = -1;
+          Real bd = 1, bdist[3] = {0, 0, 0};  // within reach: d^T M d < 1
+          for (int m = 0; m < n; ++m) {
+            Real d[3];
+            const Real d2 = reach(m, i, j, k, d);
+            if (d2 < bd) bd = d2, best = m, bdist[0] = d[0], bdist[1] = d[1], bdist[2] = d[2];
+          }
+          if (best >= 0) add(best, f, bdist, i, j, k);
+        });
+  }
   const auto mh = moments_host_;
   Kokkos::deep_copy(mh, moments_);
   std::vector<double> buf(mh.data(), mh.data() + n_moments * n);

@@ -1,7 +1,10 @@
 // Particle identity for diagnostics: tracked centroids and shapes.
 //
 // Each particle keeps a centroid and its last measured ellipsoid, replicated
-// on every rank. A cell with phi > 0 belongs to the particle it is nearest
+// on every rank. With one colour field per particle (particles.colour_fields,
+// the default for two or more), a particle is the cells of its own colour
+// within its reach (below), with the colour as its fraction there. Otherwise
+// a cell with phi > 0 belongs to the particle it is nearest
 // to in that particle's own metric: the ellipsoid of its core (phi > 0.5)
 // with each semi-axis grown by r / 2 (the diffuse band), and a cell is within
 // reach below 4/3 of it.

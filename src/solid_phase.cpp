@@ -33,6 +33,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   if (const int n = colour_count(cfg); n > 0) {
     colours_ = ColourFields(g, n, cfg.particles.colour_cut);
     phi_scheme_.phi_from_colours = true;
+    bound_colour_sum_ = cfg.particles.colour_sum_bound;
   }
   extend_b_ = cfg.particles.b_extension;
   b_solid_phi_ = cfg.particles.b_solid_phi;
@@ -287,6 +288,8 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
     // before B's update reads it (its reset to I where phi vanishes)
     colours_.advance_stage(g_, flow, flux_, scheme, gdt, zdt, allreduce_sum);
     colours_.sum_into(q_.phi(), region_);
+    if (bound_colour_sum_ && colours_.bound_sum(q_.phi(), allreduce_sum))
+      colours_.sum_into(q_.phi(), region_);
   }
   solid_rk3_update(q_, rhs_now_, rhs_before_, gdt, zdt, region_, b_check_);
   if (b_check_.on) {

@@ -104,6 +104,7 @@ class SolidPhase {
   std::vector<Sphere> spheres_;
   PhiScheme phi_scheme_;
   bool extend_b_, unimodular_b_;
+  bool bound_colour_sum_ = true;  // particles.colour_sum_bound (ColourFields::bound_sum)
   Real b_solid_phi_;  // B's own equation at or above, the extension's below
   BCheck b_check_;    // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
   BStats b_stats_;

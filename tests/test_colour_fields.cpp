@@ -5,6 +5,7 @@
 // the colours' default cut is higher, particles.colour_cut).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -48,9 +49,23 @@ long count_between(const Field3& f, const Range3& r, double lo, double hi) {
   return n;
 }
 
+// the range [min, max] of f over the interior, on all ranks
+std::array<double, 2> range_of(const Grid& g, const Field3& f) {
+  double lo = 0, hi = 0;
+  par_reduce(
+      "test_field_min", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& a) { a = Kokkos::fmin(a, f(i, j, k)); },
+      Kokkos::Min<double>(lo));
+  par_reduce(
+      "test_field_max", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& a) { a = Kokkos::fmax(a, f(i, j, k)); },
+      Kokkos::Max<double>(hi));
+  return {-global_max(-lo), global_max(hi)};
+}
+
 // max |phi - sum of the colours| and the colours' range, over the interior
 struct ColourCheck {
-  double sum_error = 0, min = 1e300, max = -1e300;
+  double sum_error = 0, min = 1e300, max = -1e300, phi_max = 0;
 };
 ColourCheck check_colours(FlowSolver& s) {
   const Grid g = s.grid();
@@ -61,20 +76,12 @@ ColourCheck check_colours(FlowSolver& s) {
   c.sum_into(sum, g.interior());
   r.sum_error = max_diff(phi, sum, g.interior());
   for (int m = 0; m < c.size(); ++m) {
-    const Field3 f = c.colour(m);
-    double lo = 0, hi = 0;
-    par_reduce(
-        "test_colour_min", g.interior(),
-        KOKKOS_LAMBDA(int i, int j, int k, double& a) { a = Kokkos::fmin(a, f(i, j, k)); },
-        Kokkos::Min<double>(lo));
-    par_reduce(
-        "test_colour_max", g.interior(),
-        KOKKOS_LAMBDA(int i, int j, int k, double& a) { a = Kokkos::fmax(a, f(i, j, k)); },
-        Kokkos::Max<double>(hi));
-    r.min = std::min(r.min, -global_max(-lo));
-    r.max = std::max(r.max, global_max(hi));
+    const auto [lo, hi] = range_of(g, c.colour(m));
+    r.min = std::min(r.min, lo);
+    r.max = std::max(r.max, hi);
   }
   r.sum_error = global_max(r.sum_error);
+  r.phi_max = range_of(g, phi)[1];
   return r;
 }
 
@@ -102,7 +109,9 @@ TEST(ColourFields, SeedOneParticlePerColour) {
 }
 
 // Sheared for 2 strain units, particles meeting: every colour keeps its
-// volume to round-off and stays in [0, 1], phi is their sum, and with one
+// volume to round-off and stays in [0, 1], phi is their sum and at most 1
+// (ColourFields::bound_sum; SumBoundKeepsEachVolumeAndTheSumAtMostOne tests
+// it where colours overlap, which these stiff spheres do not yet), and with one
 // colour phi moves as without colours (the same scheme on the same field;
 // only the order of the redistribution's sums differs: 1e-12)
 TEST(ColourFields, ConservedBoundedAndSummed) {
@@ -116,9 +125,10 @@ TEST(ColourFields, ConservedBoundedAndSummed) {
   for (int m = 0; m < c.size(); ++m) EXPECT_NEAR(field_sum(g, c.colour(m)) / v0[m], 1.0, 1e-12) << m;
   const ColourCheck k = check_colours(many);
   if (world_rank() == 0)
-    std::printf("  after %ld steps: |phi - sum| %.1e, colours in [%.1e, %.17g]\n", many.step, k.sum_error,
-                k.min, k.max);
+    std::printf("  after %ld steps: |phi - sum| %.1e, colours in [%.1e, %.17g], phi at most 1 + %.1e\n",
+                many.step, k.sum_error, k.min, k.max, k.phi_max - 1);
   EXPECT_LT(k.sum_error, 1e-15);
+  EXPECT_LE(k.phi_max, 1 + 1e-14);
   EXPECT_GE(k.min, 0.0);
   EXPECT_LE(k.max, 1.0);
 
@@ -140,6 +150,78 @@ TEST(ColourFields, ConservedBoundedAndSummed) {
   if (world_rank() == 0)
     std::printf("  one particle, one colour against none: max |phi difference| %.1e\n", d);
   EXPECT_LT(d, 1e-12);
+}
+
+// ColourFields::bound_sum on two diffuse spheres overlapping by 0.3 r (1.2
+// cells at 4 points per radius; their sum reaches ~2 there, as two colours
+// filling the cell between two particles do): afterwards the sum is at
+// most 1 (to round-off), each colour is still in [0, 1] with its volume
+// kept to round-off, and cells far from the overlap change only where there
+// is room, at the interfaces (the cores, sum 1, are untouched).
+TEST(ColourFields, SumBoundKeepsEachVolumeAndTheSumAtMostOne) {
+  FlowSolver s(dense_case(0), MPI_COMM_WORLD);
+  const Grid g = s.grid();
+  ColourFields cf(g, 2);
+  const Real w = 0.3 * g.dx;  // a tanh edge about a cell wide
+  const Real cx[2] = {2.2, 3.9}, cy = 0.0, cz = 3.0;
+  for (int m = 0; m < 2; ++m) {
+    const Field3 q = cf.colour(m);
+    const Real x0 = cx[m];
+    par_for(
+        "test_colour_sphere", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          const Real dx = g.xc(i) - x0, dy = g.yc(j) - cy, dz = g.zc(k) - cz;
+          const Real d = Kokkos::sqrt(dx * dx + dy * dy + dz * dz);
+          const Real v = 0.5 * (1 - Kokkos::tanh((d - 1) / w));
+          q(i, j, k) = v < 1e-4 ? 0 : (v > 1 - 1e-6 ? 1 : v);
+        });
+  }
+  Field3 phi("test_colour_phi", g.sx(), g.sy(), g.sz());
+  cf.sum_into(phi, g.interior());
+  double v0[2], before[2];
+  for (int m = 0; m < 2; ++m) v0[m] = field_sum(g, cf.colour(m));
+  const double phi_max0 = range_of(g, phi)[1];
+  ASSERT_GT(phi_max0, 1.5);  // the set-up overlaps
+  // a core cell of colour 0 far from the overlap, and one of its far interface
+  // (global indices; the rank holding it gives its value)
+  auto value_at = [&](int m, int gi, int gj, int gk) {
+    const int i = gi - g.x0 + Grid::ng, j = gj + Grid::ng, k = gk - g.z0 + Grid::ng;
+    const Range3 in = g.interior();
+    double v = 0;
+    if (in.contains(i, j, k)) {
+      auto h =
+          Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(cf.colour(m), i, j, k));
+      v = h();
+    }
+    return global_sum(v);
+  };
+  const int gi = int(cx[0] / g.dx), gj = g.ny / 2, gk = int(cz / g.dz), edge_i = gi - int(1.0 / g.dx);
+  before[0] = value_at(0, gi, gj, gk);
+  before[1] = value_at(0, edge_i, gj, gk);
+  ASSERT_EQ(before[0], 1.0);
+  ASSERT_GT(before[1], 0.05);
+  ASSERT_LT(before[1], 0.95);
+  const auto allreduce_sum = [](Real* x, int n) {
+    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  };
+  ASSERT_TRUE(cf.bound_sum(phi, allreduce_sum));
+  cf.sum_into(phi, g.interior());
+  const double phi_max = range_of(g, phi)[1];
+  double lo = 1, hi = 0;
+  for (int m = 0; m < 2; ++m) {
+    const auto [l, h] = range_of(g, cf.colour(m));
+    lo = std::min(lo, l);
+    hi = std::max(hi, h);
+    EXPECT_NEAR(field_sum(g, cf.colour(m)) / v0[m], 1.0, 1e-13) << m;
+  }
+  const double core = value_at(0, gi, gj, gk), edge = value_at(0, edge_i, gj, gk);
+  if (world_rank() == 0)
+    std::printf("  sum max %.3f -> 1 + %.1e; colours in [%.1e, 1 + %.1e]; far interface cell %.4f -> %.4f\n",
+                phi_max0, phi_max - 1, lo, hi - 1, before[1], edge);
+  EXPECT_LE(phi_max, 1 + 1e-14);
+  EXPECT_GE(lo, 0.0);
+  EXPECT_LE(hi, 1 + 1e-14);
+  EXPECT_EQ(core, before[0]);
+  EXPECT_GT(edge, before[1]);  // the overlap's volume went back to the interfaces
 }
 
 // The cover of occupied indices (src/colour_boxes.hpp): an arc on a

@@ -133,10 +133,11 @@ TEST(Seeding, GapIsAtLeastACellDiagonal) {
   double fewest = 1e9, fewest_wall = 1e9, old_fewest = 1e9;
   for (int seed = 1; seed <= 10; ++seed) {
     const auto dense = [seed](const std::string& cells) {
-      return couette_case(32, 24, 32,
-                          {"grid.lx=8.0", "grid.ly=6.0", "grid.lz=8.0", "walls.velocity=3.0",
-                           "particles.radius=1.0", "particles.volume_fraction=0.11", "particles.capillary=0.2",
-                           "particles.min_gap_cells=" + cells, "particles.seed=" + std::to_string(seed)});
+      return couette_case(
+          32, 24, 32,
+          {"grid.lx=8.0", "grid.ly=6.0", "grid.lz=8.0", "walls.velocity=3.0", "particles.radius=1.0",
+           "particles.volume_fraction=0.11", "particles.capillary=0.2", "particles.min_gap_cells=" + cells,
+           "particles.seed=" + std::to_string(seed)});
     };
     EXPECT_NEAR(seeding_gap(dense("1.0")), diag, 1e-12);
     EXPECT_EQ(seeding_gap(dense("0.0")), 0.1);
@@ -146,8 +147,9 @@ TEST(Seeding, GapIsAtLeastACellDiagonal) {
     old_fewest = std::min(old_fewest, closest(seed_spheres(dense("0.0")), wall));
   }
   if (world_rank() == 0)
-    std::printf("  closest surfaces: %.4f r (to a wall %.4f r); with min_gap alone %.4f r; a diagonal %.4f r\n",
-                fewest, fewest_wall, old_fewest, diag);
+    std::printf(
+        "  closest surfaces: %.4f r (to a wall %.4f r); with min_gap alone %.4f r; a diagonal %.4f r\n",
+        fewest, fewest_wall, old_fewest, diag);
   EXPECT_GE(fewest, diag - 1e-9);
   EXPECT_GE(fewest_wall, diag - 1e-9);
   EXPECT_LT(old_fewest, diag);
@@ -561,6 +563,55 @@ TEST(Solid, TrackerReachFollowsALongParticleAndSplitsNeighboursWhereTheirEllipso
   EXPECT_EQ(vol[5], vol[2]) << "the reach must not widen with the thread";
   EXPECT_GT(vol[2], v0) << "the thread's start belongs to the particle";
   EXPECT_LT(vol[2], total) << "the thread's far end is beyond reach";
+}
+
+// With one colour field per particle the tracker measures each particle from
+// its own colour (within its reach), so a particle touching another keeps
+// its whole shape: the long particle of the test above with the sphere
+// against its tip (surfaces touching), where splitting the summed phi by the
+// nearest reach hands part of one to the other.
+TEST(Solid, TrackerWithColoursMeasuresEachParticleFromItsOwnColour) {
+  const double r = 0.25, st = 2.6, th = 20 * M_PI / 180, exact = (st * st - 1) / (st * st + 1);
+  const double v0 = 4.0 / 3.0 * M_PI * r * r * r;
+  const Ellipse2 bt = stretched(st, th);
+  const double det = bt.xx * bt.yy - bt.xy * bt.xy;
+  const InsideEllipsoid body{bt.yy / det, -bt.xy / det, bt.xx / det, r * r}, ball{1, 0, 1, r * r};
+  const double cl[3] = {1.0, 0.0, 1.0}, dist = (st + 1.0) * r;
+  const double cb[3] = {1.0 + dist * std::cos(th), dist * std::sin(th), 1.0};
+  auto measure = [&](int colours) {
+    Config c = couette_case(96, 48, 64,
+                            solid_keys({"walls.velocity=0.0", "grid.lx=3.0", "grid.ly=1.5", "grid.lz=2.0",
+                                        "particles.radius=0.25"}));
+    c.particles.count = 2;
+    c.particles.placement = "random";
+    c.particles.colour_fields = colours;
+    FlowSolver s(c, MPI_COMM_WORLD);
+    s.initialize();
+    const Grid g = s.grid();
+    const SolidViews q(s.solid()->fields());
+    const InsideEllipsoid none{1, 0, 1, 0};
+    if (colours > 0) {
+      fill_two_bodies(g, s.solid()->colours().colour(0), body, cl, none, cb);
+      fill_two_bodies(g, s.solid()->colours().colour(1), ball, cb, none, cb);
+    }
+    fill_two_bodies(g, q.phi, body, cl, ball, cb);
+    ParticleTracker tr(s, {ParticleShape{cl[0], cl[1], cl[2]}, ParticleShape{cb[0], cb[1], cb[2]}});
+    for (int n = 0; n < 3; ++n) tr.update();
+    return tr.shapes();
+  };
+  const auto own = measure(2), split = measure(0);
+  if (world_rank() == 0)
+    std::printf(
+        "  touching: colours T %.4f (exact %.4f), volumes %.4f, %.4f v0; summed phi split: T %.4f, "
+        "volumes %.4f, %.4f v0\n",
+        own[0].taylor, exact, own[0].volume / v0, own[1].volume / v0, split[0].taylor, split[0].volume / v0,
+        split[1].volume / v0);
+  // each colour's sampled volume is v0 to 4e-4 (the lone body above): 5x
+  // that, where the split moves 0.9% of the sphere's volume between them
+  EXPECT_NEAR(own[0].taylor, exact, 0.05 * exact);
+  EXPECT_NEAR(own[0].volume, v0, 0.002 * v0);
+  EXPECT_NEAR(own[1].volume, v0, 0.002 * v0);
+  EXPECT_NEAR(own[1].taylor, 0.0, 0.01);
 }
 
 namespace {

@@ -146,6 +146,10 @@ with tempfile.TemporaryDirectory() as tmp:
           len(rows) == 5 and abs(rows[0]["abs_y"] - 1.25) < 1e-12
           and abs(rows[2]["abs_y"] - (0.5 + 1.5 * mean_w(20))) < 1e-12 and max(r["wall"] for r in rows) == 0,
           f"{[(r['from'], round(r['abs_y'], 4), r['wall']) for r in rows]}")
+    # the cells next to the walls: the outermost rows (|y| = 2 here), phi w / 2 in each
+    check("windows: phi in the cells next to a wall",
+          abs(rows[0]["wall_cells"] - 0.25) < 1e-12 and abs(rows[2]["wall_cells"] - mean_w(20) / 2) < 1e-12,
+          f"{[(r['from'], round(r['wall_cells'], 5)) for r in rows]}")
     near = write_run(os.path.join(tmp, "near_walls"), volume=lambda s: dense_vol)
     with open(os.path.join(run, "profiles_series.csv")) as f, \
             open(os.path.join(near, "profiles_series.csv"), "w", newline="") as g:
