@@ -31,7 +31,13 @@
 //    particle's mean B reads a more deformed particle than phi's shape
 //    (results/README.md, "B from the core"). The log mean keeps det B: a
 //    plain mean of the core's det-1 B put det B at 1.05-4.7 there.
-// 2. Unimodular projection (optional): B <- B / det(B)^(1/3) in every cell
+// When: by default after each step's last RK3 stage only (particles.
+//    b_extension_stages = "last"); "all" extends after every stage. In
+//    between, the band's B follows its own equation for up to two stages, a
+//    stretch of the order of the shear rate times dt, which the next
+//    extension replaces; the extension and its masks and logs were a fifth
+//    of the dense step at every stage (perf/README.md, round 29).
+// 2. Unimodular projection (optional, after every stage): B <- B / det(B)^(1/3) in every cell
 //    of the solid region (fluid cells far from the solid hold I: unchanged). An incompressible neo-Hookean
 //    solid has det B = 1; the discrete upper-convected transport does not keep it, and the volumetric error
 //    has no restoring force (the pressure absorbs isotropic stress), so it accumulates over long runs. The

@@ -40,9 +40,13 @@ constexpr Real phi_fluid_cut = 1e-6;  // below this a cell is fluid: B = I there
 // their 3x3x3 block at the stage's start. A dead cell's centre is at least
 // 1.5 cells from the 1/2 level of a tanh step of steepness 3.5 (a cell mean
 // of 0.05 lies within half a cell of it), and the interface moves less than
-// a cell per step (CFL 0.9): a dead cell cannot end a step solid. Results
-// are unchanged to the last bit (tests/test_solid_region.cpp); the dense
-// step saves the B source and divergence of its dead cells (perf/README.md).
+// a cell per step (CFL 0.9): a dead cell cannot end a step solid. With the
+// extension after every stage (particles.b_extension_stages = "all")
+// results are unchanged to the last bit (tests/test_solid_region.cpp); with
+// it after a step's last stage only (the default), a dead cell keeps the
+// last step's extended B through the step instead of two stages of the
+// fluid's stretch. The dense step saves the B source and divergence of its
+// dead cells (perf/README.md).
 constexpr Real phi_b_live = 0.05;
 
 KOKKOS_INLINE_FUNCTION Real weno_x(const Field3& q, Real vel, int i, int j,

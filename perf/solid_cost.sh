@@ -16,8 +16,10 @@
 # colours4 (the same with colour_cut = 1e-6 and 1e-4, the option's default
 # since round 23: with one colour per sphere the default numerics since round
 # 24), colours4nb (colours4 without the bound on the colours' sum,
-# particles.colour_sum_bound = false: round 24-27's default; every other
-# variant but issue pins one phi field, colour_fields = 0).
+# particles.colour_sum_bound = false: round 24-27's default), allstages
+# (colours4 with B's extension after every RK3 stage,
+# particles.b_extension_stages = "all": the default until round 28; every
+# other variant but issue pins one phi field, colour_fields = 0).
 #   perf/solid_cost.sh                      # -> perf/results/solid_cost/{old,new}_N.json, solid_cost.md
 #   VARIANTS="issue old new" perf/solid_cost.sh
 # Environment: ROUNDS (default 3), VARIANTS (default "old new"),
@@ -47,15 +49,16 @@ for r in $(seq 1 "$rounds"); do
     [ $v = issue ] && run_bin=$ref_bin
     case $v in thinc | thinc09) extra=(--set particles.phi_scheme=thinc) ;; esac
     case $v in thinc | mthinc05) extra+=(--set particles.b_solid_phi=0.5) ;; esac
-    case $v in colours | colours6 | colours4 | colours4nb) extra=(--set particles.colour_fields=67) ;; esac
+    case $v in colours | colours6 | colours4 | colours4nb | allstages) extra=(--set particles.colour_fields=67) ;; esac
     [ $v = colours ] && extra+=(--set particles.colour_cut=1e-10)
     [ $v = colours6 ] && extra+=(--set particles.colour_cut=1e-6)
     [ $v = colours4 ] && extra+=(--set particles.colour_cut=1e-4)
+    [ $v = allstages ] && extra+=(--set particles.colour_cut=1e-4 --set 'particles.b_extension_stages="all"')
     [ $v = colours4nb ] && extra+=(--set particles.colour_cut=1e-4 --set particles.colour_sum_bound=false)
     # and the gap it knows (min_gap alone; the issue-time code has no min_gap_cells),
     # and one phi field where the variant has no colours (they are the default since round 24)
     [ $v != issue ] && extra+=(--set particles.min_gap_cells=0)
-    case $v in issue | colours | colours6 | colours4 | colours4nb) ;; *) extra+=(--set particles.colour_fields=0) ;; esac
+    case $v in issue | colours | colours6 | colours4 | colours4nb | allstages) ;; *) extra+=(--set particles.colour_fields=0) ;; esac
     # independent draws: the placement the issue-time code knows (and the baselines')
     scripts/toolchain.sh run "$run_bin" cases/phi011_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       --set 'particles.placement="random"' \
@@ -71,9 +74,10 @@ def step(v, r):
 def kern(v, r):
     k = json.load(open(f"{out}/{v}_{r}.json"))["kernels"]
     return {n: d["seconds_per_step"]["median"] for n, d in k.items() if "solid" in n}
-names = {"old": "old", "new": "default (MTHINC, 0.9)", "thinc": "THINC, 0.5", "thinc09": "THINC, 0.9",
+names = {"old": "old", "new": "one phi (MTHINC, 0.9)", "thinc": "THINC, 0.5", "thinc09": "THINC, 0.9",
          "mthinc05": "MTHINC, 0.5", "colours": "67 colours, cut 1e-10", "colours6": "67 colours, cut 1e-6",
          "colours4": "67 colours, cut 1e-4", "colours4nb": "67 colours, cut 1e-4, no sum bound",
+         "allstages": "67 colours, cut 1e-4, B extended after every stage",
          "issue": "issue-time code"}
 steps = {v: [step(v, r) for r in range(1, rounds + 1)] for v in variants}
 # each variant against the old numerics and, when it ran, the issue-time code

@@ -351,6 +351,10 @@ Config parse_config(const std::string& text, const std::string& name,
       if (!(p.b_solid_phi >= 0.5 && p.b_solid_phi <= 0.99))
         throw InputError("'particles.b_solid_phi' must be in [0.5, 0.99] (got " +
                          std::to_string(p.b_solid_phi) + ")");
+      r.read("b_extension_stages", p.b_extension_stages, false);
+      if (p.b_extension_stages != "last" && p.b_extension_stages != "all")
+        throw InputError("'particles.b_extension_stages' must be \"last\" or \"all\" (got \"" +
+                         p.b_extension_stages + "\")");
       r.read("unimodular_b", p.unimodular_b, false);
       r.read("b_fallback", p.b_fallback, false);
       r.read("b_fallback_det", p.b_fallback_det, false);
@@ -361,7 +365,8 @@ Config parse_config(const std::string& text, const std::string& name,
         std::string v;
         r.read("colour_fields", v, false);
         if (v != "auto")
-          throw InputError("'particles.colour_fields' must be an integer >= 0 or \"auto\" (got \"" + v + "\")");
+          throw InputError("'particles.colour_fields' must be an integer >= 0 or \"auto\" (got \"" + v +
+                           "\")");
         p.colour_fields = ParticleConfig::auto_colours;
       } else if (r.read("colour_fields", p.colour_fields, false)) {
         r.non_negative("colour_fields", p.colour_fields);

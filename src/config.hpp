@@ -49,10 +49,11 @@ struct ParticleConfig {
   // the solid phase's numerics (kernels/mthinc.hpp, kernels/solid_extension.hpp)
   std::string phi_scheme = "mthinc";  // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
   Real thinc_beta = 3.5;              // (M)THINC steepness: the interface spans about 2 / beta cells
-  bool b_extension = true;     // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)
-  Real b_solid_phi = 0.9;      // at or above: B by its own equation; below: from the core (>= 0.5) or solid
-  bool unimodular_b = true;    // B <- B / det(B)^(1/3) after each stage
-  bool b_fallback = true;      // first-order B update where the stage's is not admissible
+  bool b_extension = true;  // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)
+  Real b_solid_phi = 0.9;   // at or above: B by its own equation; below: from the core (>= 0.5) or solid
+  std::string b_extension_stages = "last";  // B's extension after a step's last stage, or "all"
+  bool unimodular_b = true;                 // B <- B / det(B)^(1/3) after each stage
+  bool b_fallback = true;                   // first-order B update where the stage's is not admissible
   Real b_fallback_det = 0.02;  // admissible: positive definite and |det B - 1| <= this (0: no det test)
   // every sphere starts homogeneously deformed: B = this (xx, xy, xz, yy, yz,
   // zz; scaled to det B = 1 on input) inside, the shape x^T B^-1 x < r^2

@@ -189,7 +189,7 @@ void FlowSolver::explicit_stage(int s, Real dt) {
     if (!solid_->uniform_viscosity())
       momentum_viscous_excess(grid_, state_, solid_->stress(), solid_->viscosity(solid_->force_region()),
                               rhs_now_, solid_->force_region());
-    solid_->advance_stage(state_, gdt, zdt);
+    solid_->advance_stage(state_, gdt, zdt, s == Rk3::stages - 1);
     rk3_update_cn(grid_, state_, rhs_now_, rhs_before_, gdt, zdt, solid_->force_now(), solid_->force_before(),
                   adt / 2);
     solid_->end_stage();
@@ -214,7 +214,7 @@ void FlowSolver::implicit_stage(int s, Real dt) {
   StageTerms t;
   t.now = rhs_now_, t.before = rhs_before_;
   if (solid_) {
-    solid_->advance_stage(state_, c.gdt, c.zdt);
+    solid_->advance_stage(state_, c.gdt, c.zdt, s == Rk3::stages - 1);
     t.force_now = solid_->force_now(), t.force_before = solid_->force_before();
     t.phi = solid_->fields().phi(), t.stress = solid_->stress();
     // R = div(2 nu(phi) D) - nu0 L u vanishes away from the solid only if

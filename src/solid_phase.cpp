@@ -36,6 +36,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
     bound_colour_sum_ = cfg.particles.colour_sum_bound;
   }
   extend_b_ = cfg.particles.b_extension;
+  extend_every_stage_ = cfg.particles.b_extension_stages == "all";
   b_solid_phi_ = cfg.particles.b_solid_phi;
   if (extend_b_) b_live_ = LiveCells(g);
   if (extend_b_ && b_solid_phi_ > phi_solid) core_logs_ = SolidFields(g, "solid_core_log");
@@ -266,7 +267,7 @@ void SolidPhase::zero_outside(const MomentumRhs& f, const Range3& old_region, co
       });
 }
 
-void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
+void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt, bool last_stage) {
   // the right-hand sides vanish beyond phi's current support + 3 cells (the
   // WENO stencil); a dilute case's support is much smaller than the region,
   // which has to hold a whole step's growth
@@ -300,12 +301,12 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt) {
   if (colours_.size() == 0) phi_bounded_redistribution(q_.phi(), allreduce_sum, region_);
   std::swap(rhs_now_, rhs_before_);
   fill_ghosts();
-  constrain_b();
+  constrain_b(extend_every_stage_ || last_stage);
   elastic_force(force_now_, force_region_);
 }
 
-void SolidPhase::constrain_b() {
-  if (extend_b_) {
+void SolidPhase::constrain_b(bool extend) {
+  if (extend_b_ && extend) {
     // the transport's face-flux scratch is free between stages: the masks'
     // passes use its arrays. The largest phi within two cells says which
     // cells are near the core and which near phi >= 0.5 (phi does not

@@ -39,8 +39,10 @@ class SolidPhase {
   void set_b_live_cells(bool on) { b_live_cells_ = on; }
 
   // stage s, before the momentum update: advance phi and B from the velocity
-  // of the previous stage; then compute the new elastic force
-  void advance_stage(const FlowState& flow, Real gdt, Real zdt);
+  // of the previous stage, then B's constraints (constrain_b: B's extension
+  // after every stage, or after a step's last one only, as
+  // particles.b_extension_stages says); then compute the new elastic force
+  void advance_stage(const FlowState& flow, Real gdt, Real zdt, bool last_stage);
   // the elastic force of the current phi, B into force_before() (start of a
   // run, restart or a changed phi/B); also sets the region
   void init_force();
@@ -84,9 +86,9 @@ class SolidPhase {
   // private or protected member functions
   void elastic_force(const MomentumRhs& out, const Range3& where);
   void zero_outside(const MomentumRhs& f, const Range3& old_region, const Range3& new_region);
-  // B in the interface band from the solid side, then det B = 1 (as the case
-  // asks; kernels/solid_extension.hpp)
-  void constrain_b();
+  // B in the interface band from the solid side (`extend`: as the case asks),
+  // then det B = 1 (as the case asks; kernels/solid_extension.hpp)
+  void constrain_b(bool extend = true);
 
  private:
   const Config& cfg_;
@@ -104,9 +106,10 @@ class SolidPhase {
   std::vector<Sphere> spheres_;
   PhiScheme phi_scheme_;
   bool extend_b_, unimodular_b_;
-  bool bound_colour_sum_ = true;  // particles.colour_sum_bound (ColourFields::bound_sum)
-  Real b_solid_phi_;  // B's own equation at or above, the extension's below
-  BCheck b_check_;    // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
+  bool extend_every_stage_ = false;  // particles.b_extension_stages = "all" (else the step's last stage only)
+  bool bound_colour_sum_ = true;     // particles.colour_sum_bound (ColourFields::bound_sum)
+  Real b_solid_phi_;                 // B's own equation at or above, the extension's below
+  BCheck b_check_;  // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
   BStats b_stats_;
   bool track_region_ = true;
   bool b_live_cells_ = true;

@@ -59,7 +59,7 @@ void transport_step(FlowSolver& s, const F& f, double dt) {
   for (int st = 0; st < Rk3::stages; ++st) {
     set_velocity(s, f, s.time + Rk3::c[st] * dt);
     impermeable_walls(s);
-    s.solid()->advance_stage(s.state(), Rk3::gamma[st] * dt, Rk3::zeta[st] * dt);
+    s.solid()->advance_stage(s.state(), Rk3::gamma[st] * dt, Rk3::zeta[st] * dt, st == Rk3::stages - 1);
     s.solid()->end_stage();
   }
   s.time += dt;

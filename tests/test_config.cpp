@@ -97,6 +97,9 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
                "'particles.b_solid_phi' must be in [0.5, 0.99] (got 0.4");
   expect_error(error_of(good, with("particles.b_solid_phi=1")),
                "'particles.b_solid_phi' must be in [0.5, 0.99]");
+  EXPECT_EQ(error_of(good, with("particles.b_extension_stages=\"all\"")), "");
+  expect_error(error_of(good, with("particles.b_extension_stages=\"first\"")),
+               "'particles.b_extension_stages' must be \"last\" or \"all\" (got \"first\")");
   expect_error(error_of(good, with("particles.thinc_beta=20")),
                "'particles.thinc_beta' must be in [0.5, 10]");
   EXPECT_EQ(error_of(good, with("particles.colour_cut=1e-6")), "");
@@ -124,12 +127,15 @@ TEST(Config, ColourFieldsAutoIsOnePerSphereFromTwo) {
   EXPECT_EQ(colours({r, "particles.count=3", "particles.colour_fields=0"}), 0);
   EXPECT_EQ(colours({r, "particles.count=3", "particles.colour_fields=2"}), 2);
   EXPECT_EQ(colours({r, "particles.count=3", "particles.colour_fields=1000"}), 3);
-  EXPECT_EQ(parse_config(good, "case", {r, "particles.count=3", "particles.shear_modulus=1.0"}).particles.colour_fields,
+  EXPECT_EQ(parse_config(good, "case", {r, "particles.count=3", "particles.shear_modulus=1.0"})
+                .particles.colour_fields,
             ParticleConfig::auto_colours);
-  expect_error(error_of(good, {r, "particles.count=3", "particles.shear_modulus=1.0", "particles.colour_fields=\"all\""}),
+  expect_error(error_of(good, {r, "particles.count=3", "particles.shear_modulus=1.0",
+                               "particles.colour_fields=\"all\""}),
                "'particles.colour_fields' must be an integer >= 0 or \"auto\" (got \"all\")");
-  expect_error(error_of(good, {r, "particles.count=3", "particles.shear_modulus=1.0", "particles.colour_fields=-2"}),
-               "'particles.colour_fields' must not be negative (got -2)");
+  expect_error(
+      error_of(good, {r, "particles.count=3", "particles.shear_modulus=1.0", "particles.colour_fields=-2"}),
+      "'particles.colour_fields' must not be negative (got -2)");
 }
 
 TEST(Config, WrongTypesAreRejected) {
