@@ -32,6 +32,13 @@ ColourFields::ColourFields(const Grid& g, int n, Real cut)
   ghost_list_.reserve(n);
 }
 
+// A flag is raised once and then read by the rest of its line: a load first
+// skips the store, a locked instruction on x86 (an unconditional store per
+// cell and axis was 3% of the dense step)
+KOKKOS_INLINE_FUNCTION void raise_flag(int* f) {
+  if (Kokkos::atomic_load(f) == 0) Kokkos::atomic_store(f, 1);
+}
+
 // One pass per colour over its scan_ boxes flags every x, y and z index
 // that holds it, in its own slice of occ_; one copy brings all the flags to
 // the host, where cover() turns them into boxes (src/colour_boxes.hpp).
@@ -45,12 +52,9 @@ void ColourFields::scan_all(const Grid& g) {
       par_for(
           "colour_occupancy", scan_[c].box[b], KOKKOS_LAMBDA(int i, int j, int k) {
             if (q(i, j, k) == 0) return;
-            // a flag is set once and then read by the rest of its line: a
-            // load first skips the store, a locked instruction on x86 (an
-            // unconditional store per cell and axis was 3% of the dense step)
-            if (Kokkos::atomic_load(&occ(x0 + i)) == 0) Kokkos::atomic_store(&occ(x0 + i), 1);
-            if (Kokkos::atomic_load(&occ(y0 + j)) == 0) Kokkos::atomic_store(&occ(y0 + j), 1);
-            if (Kokkos::atomic_load(&occ(z0 + k)) == 0) Kokkos::atomic_store(&occ(z0 + k), 1);
+            raise_flag(&occ(x0 + i));
+            raise_flag(&occ(y0 + j));
+            raise_flag(&occ(z0 + k));
           });
   }
   Kokkos::deep_copy(occ_host_, occ);
