@@ -3,6 +3,7 @@
 #include "../kernels/solid_region.hpp"
 
 #include <algorithm>
+#include <vector>
 #include <string>
 #include <utility>
 
@@ -12,7 +13,10 @@ ColourFields::ColourFields(const Grid& g, int n, Real cut)
     : cut_(cut),
       stride_(g.sx() + g.sy() + g.sz()),
       occ_("colour_occupancy", std::size_t(n) * stride_),
-      occ_host_(Kokkos::create_mirror_view(occ_)) {
+      occ_host_(Kokkos::create_mirror_view(occ_)),
+      // a pass's tasks: each colour's boxes (at most 4), or 4 ghost slabs of each
+      batch_(g, 16 * n + 16),
+      batch_before_(g, 4 * n + 4) {
   for (int c = 0; c < n; ++c) {
     const std::string s = std::to_string(c);
     c_.emplace_back("colour_" + s, g.sx(), g.sy(), g.sz());
@@ -45,18 +49,19 @@ KOKKOS_INLINE_FUNCTION void raise_flag(int* f) {
 void ColourFields::scan_all(const Grid& g) {
   const auto occ = occ_;
   Kokkos::deep_copy(occ, 0);
-  for (int c = 0; c < size(); ++c) {
-    const Field3 q = c_[c];
-    const long x0 = long(c) * stride_, y0 = x0 + g.sx(), z0 = y0 + g.sy();
-    for (int b = 0; b < scan_[c].count; ++b)
-      par_for(
-          "colour_occupancy", scan_[c].box[b], KOKKOS_LAMBDA(int i, int j, int k) {
-            if (q(i, j, k) == 0) return;
-            raise_flag(&occ(x0 + i));
-            raise_flag(&occ(y0 + j));
-            raise_flag(&occ(z0 + k));
-          });
-  }
+  batch_.clear();
+  for (int c = 0; c < size(); ++c)
+    for (int b = 0; b < scan_[c].count; ++b) batch_.add(scan_[c].box[b], c, 0, c_[c]);
+  const CellOffset at = batch_.offset();
+  const long stride = long(stride_), sx = g.sx(), sxy = g.sx() + g.sy();
+  par_for_boxes(
+      "colour_occupancy", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
+        if (t.f[0][at(i, j, k)] == 0) return;
+        const long x0 = t.tag * stride;
+        raise_flag(&occ(x0 + i));
+        raise_flag(&occ(x0 + sx + j));
+        raise_flag(&occ(x0 + sxy + k));
+      });
   Kokkos::deep_copy(occ_host_, occ);
 }
 
@@ -116,6 +121,12 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
   scan_all(g);
   const Range3 in = g.interior();
   const int n = size();
+  // each colour's right-hand side on its own (the transport's scratch is
+  // shared); its updates, redistribution sums and redistribution batched
+  // over the colours after (box_batch.hpp): c += gdt r_now, then
+  // c += zdt r_before, in that order in every cell, as one colour alone
+  batch_.clear();
+  batch_before_.clear();
   for (int c = 0; c < n; ++c) {
     const Field3 q = c_[c], r = now_[c], rb = before_[c];
     const ColourBoxes& step = step_[c];
@@ -130,17 +141,11 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
     update_[c] = intersect(cover_boxes(g, flags, reach, in), step);
     for (int a = 0; a < active.count; ++a) {
       phi_transport_rhs(g, flow, q, r, flux, active.box[a], scheme);
-      par_for(
-          "colour_rk3_update", active.box[a],
-          KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += gdt * r(i, j, k); });
+      batch_.add(active.box[a], c, gdt, q, r);
     }
     if (!first_stage)
-      for (int a = 0; a < active_[c].count; ++a)
-        par_for(
-            "colour_rk3_update_before", active_[c].box[a],
-            KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += zdt * rb(i, j, k); });
+      for (int a = 0; a < active_[c].count; ++a) batch_before_.add(active_[c].box[a], c, zdt, q, rb);
     active_[c] = active;
-    phi_redistribution_sums(q, update_[c].box.data(), update_[c].count, &sums_[2 * c], cut_);
     // split ranks scan the step's boxes grown by 3, ghosts included, so
     // their ghosts must hold the truth wherever those boxes reach
     const ColourBoxes& reads_from = whole ? update_[c] : step;
@@ -157,15 +162,69 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
     sums_[3 * n + c] = wall;
     std::swap(now_[c], before_[c]);
   }
+  const CellOffset at = batch_.offset();
+  par_for_boxes(
+      "colour_rk3_update", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
+        t.f[0][at(i, j, k)] += t.s * t.f[1][at(i, j, k)];
+      });
+  par_for_boxes(
+      "colour_rk3_update_before", batch_before_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
+        t.f[0][at(i, j, k)] += t.s * t.f[1][at(i, j, k)];
+      });
+  // the bounded redistribution's sums {e, W} of each colour (phi's,
+  // kernels/solid_transport.hpp) over its update boxes
+  batch_.clear();
+  for (int c = 0; c < n; ++c)
+    for (int b = 0; b < update_[c].count; ++b) batch_.add(update_[c].box[b], c, 0, c_[c]);
+  const Real cut = cut_;
+  par_reduce2_boxes(
+      "colour_redistribution_sums", batch_,
+      KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k, Real& e, Real& w) {
+        const Real p = t.f[0][at(i, j, k)], kept = kept_phi(p, cut);
+        e += p - kept;
+        w += kept * (1 - kept);
+      });
+  per_colour_sums(n);
   std::copy(occ_host_.data(), occ_host_.data() + occ_last_.size(), occ_last_.begin());
   // every colour's redistribution sums and near-edge flags in one
   // collective (every rank, empty boxes or not)
   if (n > 0) allreduce_sum(sums_.data(), 4 * n);
   for (int c = 0; c < n; ++c) {
-    phi_redistribute(c_[c], &sums_[2 * c], update_[c].box.data(), update_[c].count, cut_);
     near_halo_[c] = sums_[2 * n + c] > 0;
     near_wall_[c] = sums_[3 * n + c] > 0;
   }
+  set_coefficients(n, true);
+  par_for_boxes(
+      "colour_redistribute", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
+        Real& q = t.f[0][at(i, j, k)];
+        const Real kept = kept_phi(q, cut);
+        q = kept + t.s * kept * (1 - kept);
+      });
+}
+
+// sums_[2c], sums_[2c + 1]: the batch's pairs of sums added per colour, box
+// by box in the batch's order (the tasks' tags)
+void ColourFields::per_colour_sums(int n) {
+  for (int c = 0; c < 2 * n; ++c) sums_[c] = 0;
+  const auto& s = batch_.sums_on_host();
+  for (int b = 0; b < batch_.size(); ++b) {
+    const int c = batch_.tag(b);
+    sums_[2 * c] += s(b, 0);
+    sums_[2 * c + 1] += s(b, 1);
+  }
+}
+
+// each task's scalar: its colour's coefficient a = e / W from sums_, clipped
+// to [-1, 1] for the redistribution (`signed_a`) or to [0, 1] for the bound
+void ColourFields::set_coefficients(int n, bool signed_a) {
+  std::vector<Real>& a = coef_;
+  a.assign(n, 0);
+  for (int c = 0; c < n; ++c) {
+    const Real e = sums_[2 * c], w = sums_[2 * c + 1];
+    a[c] = w > 0 ? std::min(Real(1), e / w) : Real(0);
+    if (signed_a) a[c] = std::max(Real(-1), a[c]);
+  }
+  for (int b = 0; b < batch_.size(); ++b) batch_.set_scalar(b, a[batch_.tag(b)]);
 }
 
 void ColourFields::sum_into(const Field3& phi, const Range3& where) const {
@@ -200,62 +259,82 @@ void ColourFields::sum_into(const Field3& phi, const Range3& where) const {
 bool ColourFields::bound_sum(const Field3& phi, const std::function<void(Real*, int)>& allreduce_sum) {
   const int n = size();
   if (n == 0) return false;
-  for (int c = 0; c < n; ++c) {
-    const Field3 q = c_[c];
-    Real e = 0, w = 0;
-    for (int b = 0; b < update_[c].count; ++b) {
-      Real eb = 0, wb = 0;
-      par_reduce(
-          "colour_overlap_excess", update_[c].box[b],
-          KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
-            const Real sum = phi(i, j, k);
-            if (sum > 1) s += q(i, j, k) * (1 - 1 / sum);
-          },
-          Kokkos::Sum<Real>(eb));
-      par_reduce(
-          "colour_overlap_room", update_[c].box[b],
-          KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
-            const Real sum = phi(i, j, k);
-            if (sum < 1) s += q(i, j, k) * (1 - sum);
-          },
-          Kokkos::Sum<Real>(wb));
-      e += eb;
-      w += wb;
-    }
-    sums_[2 * c] = e;
-    sums_[2 * c + 1] = w;
-  }
+  batch_.clear();
+  for (int c = 0; c < n; ++c)
+    for (int b = 0; b < update_[c].count; ++b) batch_.add(update_[c].box[b], c, 0, c_[c]);
+  const CellOffset at = batch_.offset();
+  par_reduce2_boxes(
+      "colour_overlap_sums", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k, Real& e, Real& w) {
+        const Real sum = phi(i, j, k), q = t.f[0][at(i, j, k)];
+        if (sum > 1) e += q * (1 - 1 / sum);
+        if (sum < 1) w += q * (1 - sum);
+      });
+  per_colour_sums(n);
   allreduce_sum(sums_.data(), 2 * n);
   bool any = false;
   for (int c = 0; c < n; ++c) any |= sums_[2 * c] > 0;
   if (!any) return false;
-  for (int c = 0; c < n; ++c) {
-    const Field3 q = c_[c];
-    const Real e = sums_[2 * c], w = sums_[2 * c + 1];
-    const Real a = w > 0 ? Kokkos::fmin(Real(1), e / w) : Real(0);
-    for (int b = 0; b < update_[c].count; ++b)
-      par_for(
-          "colour_overlap_bound", update_[c].box[b], KOKKOS_LAMBDA(int i, int j, int k) {
-            const Real sum = phi(i, j, k);
-            if (sum > 1)
-              q(i, j, k) /= sum;
-            else
-              q(i, j, k) += a * q(i, j, k) * (1 - sum);
-          });
-  }
+  set_coefficients(n, false);
+  par_for_boxes(
+      "colour_overlap_bound", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
+        const Real sum = phi(i, j, k);
+        Real& q = t.f[0][at(i, j, k)];
+        if (sum > 1)
+          q /= sum;
+        else
+          q += t.s * q * (1 - sum);
+      });
   return true;
 }
 
+// With x and z whole on this rank (the periodic copy), each colour's ghosts
+// are filled only over the boxes the next stage reads (wall_reads_, what
+// advance_stage found it reads: the full storage until then), from the
+// periodic image of the interior, in one batch; the halo's full planes cost
+// 21 us a colour in the dense scene for a few hundred cells read. Split
+// ranks exchange the colours' whole planes through the halo.
 void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
-  ghost_list_.clear();
-  for (int c = 0; c < size(); ++c)
-    if (near_halo_[c]) ghost_list_.push_back(c_[c]);  // the same list on every rank
-  const int n = int(ghost_list_.size());
-  for (int c = 0; c < n; c += Halo::max_fields)
-    halo.exchange(ghost_list_.data() + c, std::min(n - c, Halo::max_fields));
+  const int ng = Grid::ng, nx = g.nx, ny = g.ny, nz = g.nz;
+  const bool whole = g.nxl == g.nx && g.nzl == g.nz;
+  if (whole && ghost_fill_ != GhostFill::full) {
+    if (ghost_fill_ == GhostFill::reads_poisoned) {
+      // every x and z ghost of the colours about to be filled to NaN first:
+      // a stage that read a ghost this fill leaves out would carry it
+      batch_.clear();
+      for (int c = 0; c < size(); ++c) {
+        if (!near_halo_[c]) continue;
+        batch_.add({0, ng, 0, g.sy(), 0, g.sz()}, c, 0, c_[c]);
+        batch_.add({ng + nx, g.sx(), 0, g.sy(), 0, g.sz()}, c, 0, c_[c]);
+        batch_.add({ng, ng + nx, 0, g.sy(), 0, ng}, c, 0, c_[c]);
+        batch_.add({ng, ng + nx, 0, g.sy(), ng + nz, g.sz()}, c, 0, c_[c]);
+      }
+      const CellOffset at = batch_.offset();
+      par_for_boxes(
+          "colour_ghosts_poison", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
+            t.f[0][at(i, j, k)] = Kokkos::Experimental::quiet_NaN_v<Real>;
+          });
+    }
+    batch_.clear();
+    for (int c = 0; c < size(); ++c)
+      if (near_halo_[c]) add_periodic_ghosts(g, c);
+    const CellOffset at = batch_.offset();
+    par_for_boxes(
+        "colour_periodic_ghosts", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
+          const int si = i < ng ? i + nx : (i >= ng + nx ? i - nx : i);
+          const int sk = k < ng ? k + nz : (k >= ng + nz ? k - nz : k);
+          t.f[0][at(i, j, k)] = t.f[0][at(si, j, sk)];
+        });
+  } else {
+    ghost_list_.clear();
+    for (int c = 0; c < size(); ++c)
+      if (near_halo_[c]) ghost_list_.push_back(c_[c]);  // the same list on every rank
+    const int n = int(ghost_list_.size());
+    for (int c = 0; c < n; c += Halo::max_fields)
+      halo.exchange(ghost_list_.data() + c, std::min(n - c, Halo::max_fields));
+  }
   // the wall ghosts (y) after the halo's, over the x-z extent the next stage
-  // can read (the whole plane until the first stage's boxes are known)
-  const int ng = Grid::ng, ny = g.ny;
+  // can read (the whole plane until the first stage's boxes are known); a
+  // launch per box, as a colour's boxes grown may overlap in a small box
   for (int c = 0; c < size(); ++c) {
     if (!near_wall_[c]) continue;
     const Field3 a = c_[c];
@@ -268,6 +347,47 @@ void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
           });
     }
   }
+}
+
+// The periodic ghosts colour c's next stage reads. Its reads lie within its
+// wall_reads_ boxes (storage indices) or their periodic images: a box at the
+// high x end reads the high ghosts, copies of cells at the low end that its
+// other box holds (a box ending at x = 0's seam and its image one period on
+// are the same cells). So each box is shifted by -n, 0, +n periods in x and
+// z, and each ghost slab (x low and high over the whole y-z extent, corners
+// included; z low and high over the interior x) gets the bounding box of
+// what the shifted boxes cover of it: four disjoint tasks at most. A cell
+// filled beyond the reads gets its true value too.
+void ColourFields::add_periodic_ghosts(const Grid& g, int c) const {
+  const int ng = Grid::ng, nx = g.nx, nz = g.nz;
+  const Range3 all = g.all();
+  const Range3 slab[4] = {{0, ng, all.jb, all.je, all.kb, all.ke},
+                          {ng + nx, all.ie, all.jb, all.je, all.kb, all.ke},
+                          {ng, ng + nx, all.jb, all.je, 0, ng},
+                          {ng, ng + nx, all.jb, all.je, ng + nz, all.ke}};
+  Range3 need[4];
+  bool any[4] = {false, false, false, false};
+  auto meet = [](const Range3& a, const Range3& b) {
+    return Range3{std::max(a.ib, b.ib), std::min(a.ie, b.ie), std::max(a.jb, b.jb),
+                  std::min(a.je, b.je), std::max(a.kb, b.kb), std::min(a.ke, b.ke)};
+  };
+  for (int b = 0; b < wall_reads_[c].count; ++b)
+    for (int sx = -1; sx <= 1; ++sx)
+      for (int sz = -1; sz <= 1; ++sz) {
+        const Range3& e = wall_reads_[c].box[b];
+        const Range3 shifted{e.ib + sx * nx, e.ie + sx * nx, e.jb, e.je, e.kb + sz * nz, e.ke + sz * nz};
+        for (int s = 0; s < 4; ++s) {
+          const Range3 m = meet(shifted, slab[s]);
+          if (m.empty()) continue;
+          need[s] = any[s] ? Range3{std::min(need[s].ib, m.ib), std::max(need[s].ie, m.ie),
+                                    std::min(need[s].jb, m.jb), std::max(need[s].je, m.je),
+                                    std::min(need[s].kb, m.kb), std::max(need[s].ke, m.ke)}
+                           : m;
+          any[s] = true;
+        }
+      }
+  for (int s = 0; s < 4; ++s)
+    if (any[s]) batch_.add(need[s], c, 0, c_[c]);
 }
 
 }  // namespace softflow

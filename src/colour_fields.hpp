@@ -26,6 +26,7 @@
 
 #include "../kernels/flow_state.hpp"
 #include "../kernels/solid_transport.hpp"
+#include "box_batch.hpp"
 #include "colour_boxes.hpp"
 #include "halo.hpp"
 
@@ -66,6 +67,13 @@ class ColourFields {
   // halo and wall ghosts (even reflection, as phi's) of the colours that
   // need them in the next stage; the others' are not read (advance_stage)
   void fill_ghosts(Halo& halo, const Grid& g) const;
+  // How fill_ghosts fills the periodic ghosts on a rank that holds x and z
+  // whole: only where the next stage reads them (the default), every one
+  // (the halo's periodic copy: the reference the tests compare with), or
+  // where read after setting every other one to NaN (a test that nothing
+  // else is read)
+  enum class GhostFill { reads, full, reads_poisoned };
+  void set_ghost_fill(GhostFill f) { ghost_fill_ = f; }
   // flags of the x, y and z indices where each colour c is nonzero within
   // its scan_[c], brought to the host in one copy (public only because
   // nvcc rejects a device lambda in a private member function)
@@ -74,6 +82,13 @@ class ColourFields {
  private:
   // colour c's boxes from those flags, grown by m, within `within`
   ColourBoxes cover(const Grid& g, int c, int m, const Range3& within) const;
+  // the last par_reduce2_boxes' sums added per colour into sums_[0, 2n)
+  void per_colour_sums(int n);
+  // each task's scalar: its colour's e / W from sums_, clipped to [-1, 1]
+  // (`signed_a`) or [0, 1]
+  void set_coefficients(int n, bool signed_a);
+  // colour c's periodic ghost slabs that its next stage reads, into batch_
+  void add_periodic_ghosts(const Grid& g, int c) const;
 
   std::vector<Field3> c_, now_, before_;
   std::vector<ColourBoxes> step_;    // where each colour can be during this step
@@ -90,7 +105,11 @@ class ColourFields {
   std::vector<int> near_wall_;           // 1: its wall (y) ghosts are, over wall_reads_
   std::vector<ColourBoxes> wall_reads_;  // the boxes it can read in the next stage
   std::vector<Real> sums_;               // each colour's redistribution sums {e, W}, then its two near flags
+  std::vector<Real> coef_;               // scratch: each colour's coefficient
   mutable std::vector<Field3> ghost_list_;
+  GhostFill ghost_fill_ = GhostFill::reads;
+  mutable BoxBatch batch_;  // one pass's boxes of every colour (src/box_batch.hpp)
+  BoxBatch batch_before_;   // the RK3 update's second half
 };
 
 }  // namespace softflow

@@ -55,6 +55,7 @@ class SolidPhase {
   const SolidFields& fields() const { return q_; }
   // with particles.colour_fields: phi's colours (phi is their sum)
   const ColourFields& colours() const { return colours_; }
+  ColourFields& colours() { return colours_; }
   const MixtureStress& stress() const { return stress_; }
   // K = 1: the mixture's viscosity is the fluid's everywhere, so the
   // viscous excess div(2 mu(phi) D) / rho - nu_f L u is nu_f grad(div u), zero
