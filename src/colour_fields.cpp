@@ -3,6 +3,7 @@
 #include "../kernels/solid_region.hpp"
 
 #include <algorithm>
+#include <array>
 #include <vector>
 #include <string>
 #include <utility>
@@ -301,13 +302,10 @@ void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
       // every x and z ghost of the colours about to be filled to NaN first:
       // a stage that read a ghost this fill leaves out would carry it
       batch_.clear();
-      for (int c = 0; c < size(); ++c) {
-        if (!near_halo_[c]) continue;
-        batch_.add({0, ng, 0, g.sy(), 0, g.sz()}, c, 0, c_[c]);
-        batch_.add({ng + nx, g.sx(), 0, g.sy(), 0, g.sz()}, c, 0, c_[c]);
-        batch_.add({ng, ng + nx, 0, g.sy(), 0, ng}, c, 0, c_[c]);
-        batch_.add({ng, ng + nx, 0, g.sy(), ng + nz, g.sz()}, c, 0, c_[c]);
-      }
+      const std::array<Range3, 4> slabs = ghost_slabs(g);
+      for (int c = 0; c < size(); ++c)
+        if (near_halo_[c])
+          for (const Range3& r : slabs) batch_.add(r, c, 0, c_[c]);
       const CellOffset at = batch_.offset();
       par_for_boxes(
           "colour_ghosts_poison", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
@@ -349,6 +347,17 @@ void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
   }
 }
 
+// The x and z ghost slabs: x low and high over the whole y-z extent
+// (corners included), z low and high over the interior x; disjoint
+std::array<Range3, 4> ColourFields::ghost_slabs(const Grid& g) {
+  const int ng = Grid::ng;
+  const Range3 all = g.all();
+  return {Range3{0, ng, all.jb, all.je, all.kb, all.ke},
+          Range3{ng + g.nx, all.ie, all.jb, all.je, all.kb, all.ke},
+          Range3{ng, ng + g.nx, all.jb, all.je, 0, ng},
+          Range3{ng, ng + g.nx, all.jb, all.je, ng + g.nz, all.ke}};
+}
+
 // The periodic ghosts colour c's next stage reads. Its reads lie within its
 // wall_reads_ boxes (storage indices) or their periodic images: a box at the
 // high x end reads the high ghosts, copies of cells at the low end that its
@@ -359,12 +368,8 @@ void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
 // what the shifted boxes cover of it: four disjoint tasks at most. A cell
 // filled beyond the reads gets its true value too.
 void ColourFields::add_periodic_ghosts(const Grid& g, int c) const {
-  const int ng = Grid::ng, nx = g.nx, nz = g.nz;
-  const Range3 all = g.all();
-  const Range3 slab[4] = {{0, ng, all.jb, all.je, all.kb, all.ke},
-                          {ng + nx, all.ie, all.jb, all.je, all.kb, all.ke},
-                          {ng, ng + nx, all.jb, all.je, 0, ng},
-                          {ng, ng + nx, all.jb, all.je, ng + nz, all.ke}};
+  const int nx = g.nx, nz = g.nz;
+  const std::array<Range3, 4> slab = ghost_slabs(g);
   Range3 need[4];
   bool any[4] = {false, false, false, false};
   auto meet = [](const Range3& a, const Range3& b) {

@@ -21,6 +21,7 @@
 // formed after every stage. A colour shared by several particles (n below
 // their number) fuses them as phi would if they meet.
 #pragma once
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -89,6 +90,7 @@ class ColourFields {
   void set_coefficients(int n, bool signed_a);
   // colour c's periodic ghost slabs that its next stage reads, into batch_
   void add_periodic_ghosts(const Grid& g, int c) const;
+  static std::array<Range3, 4> ghost_slabs(const Grid& g);
 
   std::vector<Field3> c_, now_, before_;
   std::vector<ColourBoxes> step_;    // where each colour can be during this step
