@@ -16,6 +16,7 @@
 // the region: a face next to a fluid cell can carry a tiny flux, and
 // skipping it would break the exact conservation of solid volume.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -429,6 +430,22 @@ KOKKOS_INLINE_FUNCTION Real kept_phi(Real p, Real cut = phi_zero_cut) {
 // (kernels/solid_region.hpp; a colour's boxes, src/colour_boxes.hpp). In
 // two halves, so that many fields (the colours) share one allreduce: this
 // rank's {e, W} into sums[0..1], then, with the global sums, the update.
+// Its point-wise parts, shared with the colours' batched loops
+// (src/colour_fields.cpp): a cell's clipped volume p - c, its interface
+// weight c (1 - c), the coefficient a = e / W clipped to [lowest, 1] (the
+// colours' overlap bound takes [0, 1]), and the updated value.
+KOKKOS_INLINE_FUNCTION Real clipped_excess(Real p, Real cut) { return p - kept_phi(p, cut); }
+KOKKOS_INLINE_FUNCTION Real interface_weight(Real p, Real cut) {
+  const Real c = kept_phi(p, cut);
+  return c * (1 - c);
+}
+inline Real redistribution_coefficient(Real e, Real w, Real lowest = -1) {
+  return w > 0 ? std::max(lowest, std::min(Real(1), e / w)) : Real(0);
+}
+KOKKOS_INLINE_FUNCTION Real redistributed_phi(Real p, Real a, Real cut) {
+  const Real c = kept_phi(p, cut);
+  return c + a * c * (1 - c);
+}
 inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int n, Real* sums,
                                     Real cut = phi_zero_cut) {
   sums[0] = sums[1] = 0;
@@ -436,17 +453,11 @@ inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int
     Real e = 0, w = 0;
     par_reduce(
         "solid_phi_excess", region[b],
-        KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
-          const Real p = phi(i, j, k);
-          s += p - kept_phi(p, cut);
-        },
+        KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += clipped_excess(phi(i, j, k), cut); },
         Kokkos::Sum<Real>(e));
     par_reduce(
         "solid_phi_interface_weight", region[b],
-        KOKKOS_LAMBDA(int i, int j, int k, Real& s) {
-          const Real c = kept_phi(phi(i, j, k), cut);
-          s += c * (1 - c);
-        },
+        KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += interface_weight(phi(i, j, k), cut); },
         Kokkos::Sum<Real>(w));
     sums[0] += e;
     sums[1] += w;
@@ -454,14 +465,11 @@ inline void phi_redistribution_sums(const Field3& phi, const Range3* region, int
 }
 inline void phi_redistribute(const Field3& phi, const Real* global_sums, const Range3* region, int n,
                              Real cut = phi_zero_cut) {
-  const Real e = global_sums[0], w = global_sums[1];
-  const Real a = w > 0 ? Kokkos::fmax(Real(-1), Kokkos::fmin(Real(1), e / w)) : Real(0);
+  const Real a = redistribution_coefficient(global_sums[0], global_sums[1]);
   for (int b = 0; b < n; ++b)
     par_for(
-        "solid_phi_redistribute", region[b], KOKKOS_LAMBDA(int i, int j, int k) {
-          const Real c = kept_phi(phi(i, j, k), cut);
-          phi(i, j, k) = c + a * c * (1 - c);
-        });
+        "solid_phi_redistribute", region[b],
+        KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = redistributed_phi(phi(i, j, k), a, cut); });
 }
 inline void phi_bounded_redistribution(const Field3& phi,
                                        const std::function<void(Real*, int)>& allreduce_sum,

@@ -181,9 +181,9 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
   par_reduce2_boxes(
       "colour_redistribution_sums", batch_,
       KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k, Real& e, Real& w) {
-        const Real p = t.f[0][at(i, j, k)], kept = kept_phi(p, cut);
-        e += p - kept;
-        w += kept * (1 - kept);
+        const Real p = t.f[0][at(i, j, k)];
+        e += clipped_excess(p, cut);
+        w += interface_weight(p, cut);
       });
   per_colour_sums(n);
   std::copy(occ_host_.data(), occ_host_.data() + occ_last_.size(), occ_last_.begin());
@@ -198,8 +198,7 @@ void ColourFields::advance_stage(const Grid& g, const FlowState& flow, const Fac
   par_for_boxes(
       "colour_redistribute", batch_, KOKKOS_LAMBDA(const BoxTask& t, int i, int j, int k) {
         Real& q = t.f[0][at(i, j, k)];
-        const Real kept = kept_phi(q, cut);
-        q = kept + t.s * kept * (1 - kept);
+        q = redistributed_phi(q, t.s, cut);
       });
 }
 
@@ -220,11 +219,7 @@ void ColourFields::per_colour_sums(int n) {
 void ColourFields::set_coefficients(int n, bool signed_a) {
   std::vector<Real>& a = coef_;
   a.assign(n, 0);
-  for (int c = 0; c < n; ++c) {
-    const Real e = sums_[2 * c], w = sums_[2 * c + 1];
-    a[c] = w > 0 ? std::min(Real(1), e / w) : Real(0);
-    if (signed_a) a[c] = std::max(Real(-1), a[c]);
-  }
+  for (int c = 0; c < n; ++c) a[c] = redistribution_coefficient(sums_[2 * c], sums_[2 * c + 1], signed_a ? -1 : 0);
   for (int b = 0; b < batch_.size(); ++b) batch_.set_scalar(b, a[batch_.tag(b)]);
 }
 
@@ -331,13 +326,16 @@ void ColourFields::fill_ghosts(Halo& halo, const Grid& g) const {
       halo.exchange(ghost_list_.data() + c, std::min(n - c, Halo::max_fields));
   }
   // the wall ghosts (y) after the halo's, over the x-z extent the next stage
-  // can read (the whole plane until the first stage's boxes are known); a
+  // can read (the whole plane until the first stage's boxes are known, and
+  // in the reference fill GhostFill::full, whose corners are then exact); a
   // launch per box, as a colour's boxes grown may overlap in a small box
+  const bool whole_plane = ghost_fill_ == GhostFill::full;
+  const Range3 plane = g.all();
   for (int c = 0; c < size(); ++c) {
     if (!near_wall_[c]) continue;
     const Field3 a = c_[c];
-    for (int b = 0; b < wall_reads_[c].count; ++b) {
-      const Range3& r = wall_reads_[c].box[b];
+    for (int b = 0; b < (whole_plane ? 1 : wall_reads_[c].count); ++b) {
+      const Range3& r = whole_plane ? plane : wall_reads_[c].box[b];
       par_for(
           "walls_colour", Range3{r.ib, r.ie, 0, ng, r.kb, r.ke}, KOKKOS_LAMBDA(int i, int m, int k) {
             a(i, ng - 1 - m, k) = a(i, ng + m, k);

@@ -70,7 +70,8 @@ class ColourFields {
   void fill_ghosts(Halo& halo, const Grid& g) const;
   // How fill_ghosts fills the periodic ghosts on a rank that holds x and z
   // whole: only where the next stage reads them (the default), every one
-  // (the halo's periodic copy: the reference the tests compare with), or
+  // (the halo's periodic copy, then the wall ghosts over the whole plane,
+  // corners included: the reference the tests compare with), or
   // where read after setting every other one to NaN (a test that nothing
   // else is read)
   enum class GhostFill { reads, full, reads_poisoned };
