@@ -219,7 +219,8 @@ void ColourFields::per_colour_sums(int n) {
 void ColourFields::set_coefficients(int n, bool signed_a) {
   std::vector<Real>& a = coef_;
   a.assign(n, 0);
-  for (int c = 0; c < n; ++c) a[c] = redistribution_coefficient(sums_[2 * c], sums_[2 * c + 1], signed_a ? -1 : 0);
+  for (int c = 0; c < n; ++c)
+    a[c] = redistribution_coefficient(sums_[2 * c], sums_[2 * c + 1], signed_a ? -1 : 0);
   for (int b = 0; b < batch_.size(); ++b) batch_.set_scalar(b, a[batch_.tag(b)]);
 }
 

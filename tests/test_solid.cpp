@@ -752,3 +752,91 @@ TEST(Solid, MthincKeepsASphereRoundTurningAboutATiltedAxis) {
 TEST(Solid, DISABLED_ThincKeepsASphereRoundTurningAboutATiltedAxis) {
   EXPECT_LT(tilted_turn_anisotropy("thinc"), 0.01);
 }
+
+namespace {
+// the share of phi's volume in cells with phi < 0.1 (the issue-12 measure)
+double low_phi_share(const Grid& g, const Field3& phi) {
+  double low = 0, all = 0;
+  par_reduce(
+      "test_low_phi", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& a) { a += phi(i, j, k) < 0.1 ? phi(i, j, k) : 0.0; },
+      Kokkos::Sum<double>(low));
+  par_reduce(
+      "test_all_phi", g.interior(), KOKKOS_LAMBDA(int i, int j, int k, double& a) { a += phi(i, j, k); },
+      Kokkos::Sum<double>(all));
+  return global_sum(low) / global_sum(all);
+}
+void fill_blade(const Grid& g, const Field3& phi, InsideEllipsoid e, double x0, double z0) {
+  par_for(
+      "test_blade", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = sampled_fraction(g, i, j, k, x0, 0.0, z0, e); });
+}
+
+// The dilute Ca = 2 particle (K = 1, the exact steady shape of
+// shared/spec/dilute_theory.csv: semi-axes 2.6054 and 0.3459 r in the shear
+// plane at 7.56 degrees, 1.1097 r along z) sampled at `ppr` points per
+// radius and carried by phi's scheme alone in its own tank-treading flow
+// (material turning at w = 1 / (a / b + b / a), the interior vorticity
+// then gamma = 1) for t_end time units; the share of its volume in phi < 0.1
+// cells every 10 time units, from t = 0
+std::vector<double> blade_low_phi_shares(const std::string& scheme, int ppr, double t_end) {
+  const double a = 2.6054, b = 0.3459, cz = 1.1097, th = 7.5622 * M_PI / 180;
+  const double co = std::cos(th), si = std::sin(th), w = 1 / (a / b + b / a);
+  Config cfg = couette_case(8 * ppr, 6 * ppr, 6 * ppr,
+                            solid_keys({"walls.velocity=0.0", "grid.lx=8.0", "grid.ly=6.0", "grid.lz=6.0",
+                                        "particles.radius=1.0", "particles.phi_scheme=\"" + scheme + "\""}));
+  FlowSolver s(cfg, MPI_COMM_WORLD);
+  s.initialize();
+  const Grid g = s.grid();
+  // inside: c^2 R diag(1/a^2, 1/b^2) R^T (x-y block) + z^2 < c^2
+  const double ia = cz * cz / (a * a), ib = cz * cz / (b * b);
+  const InsideEllipsoid e{ia * co * co + ib * si * si, (ia - ib) * co * si, ia * si * si + ib * co * co,
+                          cz * cz};
+  fill_blade(g, s.solid()->fields().phi(), e, 4.0, 3.0);
+  s.solid()->fill_ghosts();
+  const TankTreading flow{w, a, b, co, si, 4.0};
+  const double dt = 0.1 / ppr;  // Courant number 0.4 at the box's corners
+  const int every = int(std::lround(10 / dt)), steps = int(std::lround(t_end / dt));
+  std::vector<double> shares;
+  for (int n = 0; n <= steps; ++n) {
+    if (n % every == 0) shares.push_back(low_phi_share(g, s.solid()->fields().phi()));
+    if (n < steps) transport_step(s, flow, dt);
+  }
+  return shares;
+}
+}  // namespace
+
+// Issue 12's dilute Ca = 2 run at 4 ppr ends with 10.4% of its elastic
+// stress in phi < 0.1 cells (bound 5%), while the exact particle sampled on
+// that grid has 1.2% there (scripts/exact_share.py). Is it phi's transport?
+// Carried alone in the particle's own steady flow, MTHINC's share settles
+// within 10 time units (its tanh profile against the sampled cut) and then
+// stays below the issue's 5% with no growth: 0.96% at 0, then 3.11%, 3.33%,
+// 3.21% at 10, 20, 30 (3.1-4.1% to 50). So the coupled run's loss is not
+// the transport of the blade by itself. The bound can fail: THINC's share
+// (one plane per direction) grows, 5.02%, 6.68%, 7.31%, and WENO5's faster
+// (8.0% to 14.7%). Tolerances: 5% is the issue's bound; growth from t = 10
+// to 30 below 20% (MTHINC 3%, THINC 46%).
+TEST(Solid, MthincHoldsTheCa2BladeInItsOwnTankTreadingFlow) {
+  const std::vector<double> m = blade_low_phi_shares("mthinc", 4, 30),
+                            t = blade_low_phi_shares("thinc", 4, 30);
+  if (world_rank() == 0)
+    std::printf(
+        "  share in phi < 0.1 cells at t = 0, 10, 20, 30: MTHINC %.2f%% %.2f%% %.2f%% %.2f%%, THINC %.2f%% "
+        "%.2f%% %.2f%% %.2f%%\n",
+        100 * m[0], 100 * m[1], 100 * m[2], 100 * m[3], 100 * t[0], 100 * t[1], 100 * t[2], 100 * t[3]);
+  ASSERT_EQ(m.size(), 4u);
+  for (std::size_t k = 1; k < m.size(); ++k) EXPECT_LT(m[k], 0.05) << "t = " << 10 * k;
+  EXPECT_LT(m[3], 1.2 * m[1]) << "MTHINC's share must not grow once settled";
+  EXPECT_GT(t[3], 0.05) << "THINC's share was expected above the bound (the test's contrast)";
+}
+
+// All three schemes to t = 50 (about 1 minute on one thread)
+TEST(Solid, DISABLED_BladeInItsOwnTankTreadingFlowEveryScheme) {
+  for (const std::string scheme : {"weno5", "thinc", "mthinc"}) {
+    const std::vector<double> sh = blade_low_phi_shares(scheme, 4, 50);
+    std::printf("  %s, 4 ppr, share in phi < 0.1 cells at t = 0, 10, ...:", scheme.c_str());
+    for (double v : sh) std::printf(" %.2f%%", 100 * v);
+    std::printf("\n");
+  }
+}
