@@ -72,6 +72,7 @@ dilute theory's own start-up from a sphere at that Ca (and K, default 1),
 unbounded (scripts/ellipsoid_theory.py), in black.
 
   scripts/stationarity.py shape RUN_DIR...
+  scripts/stationarity.py interior RUN_DIR...
 
 shape: is the particles' phi shape the one their B records? For each field
 snapshot of each run, T and inclination of the x-y section from phi's
@@ -85,6 +86,15 @@ form (periodic in x and z): fewer than the particles where their phi bands
 have fused (there is no contact force).
 Runs written after particles.csv gained taylor_b_mean have the per-particle
 value at every row; this reads older runs' snapshots (needs h5py, numpy).
+
+interior: is the velocity inside a particle the linear field of the exact
+dilute solution? For each field snapshot of a one-particle run, the
+cell-centred velocity over the cells with phi > 0.9 is fitted by
+u = u0 + L x (least squares); printed: |L|, the rms residual as a share
+of |L| r, and the residual's odd-even parts in y and in x (its mean times
+(-1)^j or (-1)^i, for u and v): a grid mode shows there, where noise gives
+about rms / sqrt(cells). Only meaningful while phi > 0.9 is one body
+(`shape`).
 """
 import argparse
 import csv
@@ -586,6 +596,37 @@ def lowphi(folders):
                   f"{share(low & (rad >= 2))} | {share(low & detached)} | "
                   f"{100 * (phi * (rad >= 1.25)).sum() / phi.sum():.1f}% | {share((phi >= 0.1) & (phi < 0.5))} |")
 
+def interior(folders):
+    import glob
+    import h5py
+    import numpy as np
+    print("| run | strain | cells phi > 0.9 | abs(L) | rms residual / (abs(L) r) | odd-even in y: u, v | "
+          "odd-even in x: u, v |\n|---|---|---|---|---|---|---|")
+    for folder in folders:
+        run = Run(folder)
+        lx, ly, lz = run.box
+        times = {int(r["step"]): float(r["strain"]) for r in csv.DictReader(open(os.path.join(folder, "series.csv")))}
+        for f in sorted(glob.glob(os.path.join(folder, "fields_*.h5")))[1:]:
+            step = int(os.path.basename(f)[7:15])
+            with h5py.File(f, "r") as h:  # stored z, y, x: to x, y, z (velocities at cell centres)
+                phi = np.asarray(h["phi"]).transpose(2, 1, 0)
+                vel = [np.asarray(h[c]).transpose(2, 1, 0) for c in ("u", "v", "w")]
+            n = phi.shape
+            i, j, k = np.meshgrid(*(np.arange(m) for m in n), indexing="ij")
+            core = phi > 0.9
+            x = np.stack([np.ones(core.sum()), i[core] * lx / n[0], j[core] * ly / n[1], k[core] * lz / n[2]], axis=1)
+            fits = [np.linalg.lstsq(x, q[core], rcond=None)[0] for q in vel]
+            grad = np.array([c[1:] for c in fits])
+            res = [q[core] - x @ c for q, c in zip(vel, fits)]
+            rms = math.sqrt(np.mean(np.concatenate(res) ** 2))
+            py, px = 2 * (j[core] % 2) - 1, 2 * (i[core] % 2) - 1
+            near = min(times, key=lambda m: abs(m - step))
+            print(f"| {os.path.basename(os.path.normpath(folder))} | {times[near]:.1f} | {core.sum()} | "
+                  f"{np.linalg.norm(grad):.3f} | {100 * rms / np.linalg.norm(grad):.1f}% | "
+                  f"{np.mean(res[0] * py):+.1e}, {np.mean(res[1] * py):+.1e} | "
+                  f"{np.mean(res[0] * px):+.1e}, {np.mean(res[1] * px):+.1e} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -602,6 +643,8 @@ def main():
     f.add_argument("--theory", help="CA[:K]: the exact dilute theory's start-up beside dilute runs")
     h = sub.add_parser("shape")
     h.add_argument("runs", nargs="+")
+    ip = sub.add_parser("interior")
+    ip.add_argument("runs", nargs="+")
     lp = sub.add_parser("lowphi")
     lp.add_argument("runs", nargs="+")
     wp = sub.add_parser("windows")
@@ -617,6 +660,9 @@ def main():
         return
     if a.cmd == "lowphi":
         lowphi(a.runs)
+        return
+    if a.cmd == "interior":
+        interior(a.runs)
         return
     if a.cmd == "windows":
         for folder in a.runs:
