@@ -548,18 +548,25 @@ def shape(folders):
 
 
 
-def lowphi(folders):
+def field_snapshots(folder):
+    """(path, strain) of each field snapshot after the first (the start),
+    the strain from the nearest series.csv row (rows come every series_every
+    steps)"""
     import glob
+    times = {int(r["step"]): float(r["strain"]) for r in csv.DictReader(open(os.path.join(folder, "series.csv")))}
+    for f in sorted(glob.glob(os.path.join(folder, "fields_*.h5")))[1:]:
+        step = int(os.path.basename(f)[7:15])
+        yield f, times[min(times, key=lambda k: abs(k - step))]
+
+
+def lowphi(folders):
     import h5py
     import numpy as np
     print("| run | strain | share phi < 0.1 | within 1.25 | 1.25-2 | beyond 2 | detached | "
           "solid volume beyond 1.25 | share 0.1 <= phi < 0.5 |\n|---|---|---|---|---|---|---|---|---|")
     for folder in folders:
-        run = Run(folder)
-        lx, ly, lz = run.box
-        times = {int(r["step"]): float(r["strain"]) for r in csv.DictReader(open(os.path.join(folder, "series.csv")))}
-        for f in sorted(glob.glob(os.path.join(folder, "fields_*.h5")))[1:]:
-            step = int(os.path.basename(f)[7:15])
+        lx, ly, lz = Run(folder).box
+        for f, strain in field_snapshots(folder):
             with h5py.File(f, "r") as h:  # stored z, y, x: to x, y, z
                 phi = np.clip(np.asarray(h["phi"]).transpose(2, 1, 0), 0, 1)
                 b = {c: np.asarray(h["B" + c]).transpose(2, 1, 0) for c in ("xx", "xy", "xz", "yy", "yz", "zz")}
@@ -590,24 +597,19 @@ def lowphi(folders):
             sizes[0] = 0
             detached = (lab != sizes.argmax()) & (lab > 0)
             share = lambda k: f"{100 * (s * k).sum() / total:.1f}%"
-            near = min(times, key=lambda k: abs(k - step))  # series rows come every series_every steps
-            print(f"| {os.path.basename(os.path.normpath(folder))} | {times[near]:.1f} | "
+            print(f"| {os.path.basename(os.path.normpath(folder))} | {strain:.1f} | "
                   f"{share(low)} | {share(low & (rad < 1.25))} | {share(low & (rad >= 1.25) & (rad < 2))} | "
                   f"{share(low & (rad >= 2))} | {share(low & detached)} | "
                   f"{100 * (phi * (rad >= 1.25)).sum() / phi.sum():.1f}% | {share((phi >= 0.1) & (phi < 0.5))} |")
 
 def interior(folders):
-    import glob
     import h5py
     import numpy as np
     print("| run | strain | cells phi > 0.9 | abs(L) | rms residual / (abs(L) r) | odd-even in y: u, v | "
           "odd-even in x: u, v |\n|---|---|---|---|---|---|---|")
     for folder in folders:
-        run = Run(folder)
-        lx, ly, lz = run.box
-        times = {int(r["step"]): float(r["strain"]) for r in csv.DictReader(open(os.path.join(folder, "series.csv")))}
-        for f in sorted(glob.glob(os.path.join(folder, "fields_*.h5")))[1:]:
-            step = int(os.path.basename(f)[7:15])
+        lx, ly, lz = Run(folder).box
+        for f, strain in field_snapshots(folder):
             with h5py.File(f, "r") as h:  # stored z, y, x: to x, y, z (velocities at cell centres)
                 phi = np.asarray(h["phi"]).transpose(2, 1, 0)
                 vel = [np.asarray(h[c]).transpose(2, 1, 0) for c in ("u", "v", "w")]
@@ -620,8 +622,7 @@ def interior(folders):
             res = [q[core] - x @ c for q, c in zip(vel, fits)]
             rms = math.sqrt(np.mean(np.concatenate(res) ** 2))
             py, px = 2 * (j[core] % 2) - 1, 2 * (i[core] % 2) - 1
-            near = min(times, key=lambda m: abs(m - step))
-            print(f"| {os.path.basename(os.path.normpath(folder))} | {times[near]:.1f} | {core.sum()} | "
+            print(f"| {os.path.basename(os.path.normpath(folder))} | {strain:.1f} | {core.sum()} | "
                   f"{np.linalg.norm(grad):.3f} | {100 * rms / np.linalg.norm(grad):.1f}% | "
                   f"{np.mean(res[0] * py):+.1e}, {np.mean(res[1] * py):+.1e} | "
                   f"{np.mean(res[0] * px):+.1e}, {np.mean(res[1] * px):+.1e} |")

@@ -772,13 +772,6 @@ void fill_blade(const Grid& g, const Field3& phi, InsideEllipsoid e, double x0, 
       KOKKOS_LAMBDA(int i, int j, int k) { phi(i, j, k) = sampled_fraction(g, i, j, k, x0, 0.0, z0, e); });
 }
 
-// The dilute Ca = 2 particle (K = 1, the exact steady shape of
-// shared/spec/dilute_theory.csv: semi-axes 2.6054 and 0.3459 r in the shear
-// plane at 7.56 degrees, 1.1097 r along z) sampled at `ppr` points per
-// radius and carried by phi's scheme alone in its own tank-treading flow
-// (material turning at w = 1 / (a / b + b / a), the interior vorticity
-// then gamma = 1) for t_end time units; the share of its volume in phi < 0.1
-// cells every 10 time units, from t = 0
 // A velocity of the flat-layer odd-even mode added to a flow: u + A (-1)^j
 // (divergence-free: u varies with y only), j the cell row from the lower wall
 template <class F>
@@ -792,31 +785,55 @@ struct WithOddEvenU {
     return q;
   }
 };
-std::vector<double> blade_low_phi_shares(const std::string& scheme, int ppr, double t_end,
-                                         double odd_even = 0) {
-  const double a = 2.6054, b = 0.3459, cz = 1.1097, th = 7.5622 * M_PI / 180;
-  const double co = std::cos(th), si = std::sin(th), w = 1 / (a / b + b / a);
-  Config cfg = couette_case(8 * ppr, 6 * ppr, 6 * ppr,
-                            solid_keys({"walls.velocity=0.0", "grid.lx=8.0", "grid.ly=6.0", "grid.lz=6.0",
-                                        "particles.radius=1.0", "particles.phi_scheme=\"" + scheme + "\""}));
-  FlowSolver s(cfg, MPI_COMM_WORLD);
-  s.initialize();
-  const Grid g = s.grid();
+// The dilute Ca = 2 particle (K = 1, the exact steady shape of
+// shared/spec/dilute_theory.csv: semi-axes 2.6054 and 0.3459 r in the shear
+// plane at 7.56 degrees, 1.1097 r along z), and the rate w = 1 / (a / b +
+// b / a) at which its material turns when its interior vorticity is gamma = 1
+struct Ca2Blade {
+  double a = 2.6054, b = 0.3459, cz = 1.1097, co = std::cos(7.5622 * M_PI / 180),
+         si = std::sin(7.5622 * M_PI / 180), w = 1 / (a / b + b / a);
+};
+// phi's scheme alone in an lx x 6r x 6r box at `ppr` points per radius,
+// walls at rest, with the blade sampled about (lx / 2, 0, 3)
+std::unique_ptr<FlowSolver> blade_box(const std::string& scheme, int ppr, double lx) {
+  const Ca2Blade k;
+  Config cfg = couette_case(
+      int(lx) * ppr, 6 * ppr, 6 * ppr,
+      solid_keys({"walls.velocity=0.0", "grid.lx=" + std::to_string(lx), "grid.ly=6.0", "grid.lz=6.0",
+                  "particles.radius=1.0", "particles.phi_scheme=\"" + scheme + "\""}));
+  auto s = std::make_unique<FlowSolver>(cfg, MPI_COMM_WORLD);
+  s->initialize();
   // inside: c^2 R diag(1/a^2, 1/b^2) R^T (x-y block) + z^2 < c^2
-  const double ia = cz * cz / (a * a), ib = cz * cz / (b * b);
-  const InsideEllipsoid e{ia * co * co + ib * si * si, (ia - ib) * co * si, ia * si * si + ib * co * co,
-                          cz * cz};
-  fill_blade(g, s.solid()->fields().phi(), e, 4.0, 3.0);
-  s.solid()->fill_ghosts();
-  const WithOddEvenU<TankTreading> flow{{w, a, b, co, si, 4.0}, odd_even, g.dy, g.ly};
-  const double dt = 0.1 / ppr;  // Courant number 0.4 at the box's corners
+  const double ia = k.cz * k.cz / (k.a * k.a), ib = k.cz * k.cz / (k.b * k.b);
+  const InsideEllipsoid e{ia * k.co * k.co + ib * k.si * k.si, (ia - ib) * k.co * k.si,
+                          ia * k.si * k.si + ib * k.co * k.co, k.cz * k.cz};
+  fill_blade(s->grid(), s->solid()->fields().phi(), e, lx / 2, 3.0);
+  s->solid()->fill_ghosts();
+  return s;
+}
+// the share of the solid in phi < 0.1 cells every 10 time units from t = 0
+// to t_end, advancing by step(dt) with dt = 0.1 / ppr (Courant number 0.4
+// at the 8r box's corners in the tank-treading flow)
+template <class Step>
+std::vector<double> low_phi_shares(FlowSolver& s, int ppr, double t_end, const Step& step) {
+  const double dt = 0.1 / ppr;
   const int every = int(std::lround(10 / dt)), steps = int(std::lround(t_end / dt));
   std::vector<double> shares;
   for (int n = 0; n <= steps; ++n) {
-    if (n % every == 0) shares.push_back(low_phi_share(g, s.solid()->fields().phi()));
-    if (n < steps) transport_step(s, flow, dt);
+    if (n % every == 0) shares.push_back(low_phi_share(s.grid(), s.solid()->fields().phi()));
+    if (n < steps) step(dt);
   }
   return shares;
+}
+// the blade carried by `scheme` in its own tank-treading flow (8r box), with
+// the flat-layer mode's velocity odd_even added
+std::vector<double> blade_low_phi_shares(const std::string& scheme, int ppr, double t_end,
+                                         double odd_even = 0) {
+  const Ca2Blade k;
+  auto s = blade_box(scheme, ppr, 8.0);
+  const Grid g = s->grid();
+  const WithOddEvenU<TankTreading> flow{{k.w, k.a, k.b, k.co, k.si, 4.0}, odd_even, g.dy, g.ly};
+  return low_phi_shares(*s, ppr, t_end, [&](double dt) { transport_step(*s, flow, dt); });
 }
 }  // namespace
 
@@ -900,34 +917,19 @@ void set_open_blade_velocity(FlowSolver& s, const OpenBladeFlow& f) {
 // MTHINC carrying the blade in that flow: open streamlines outside it, as
 // in the coupled run, against the closed ones of its own tank-treading
 TEST(Solid, DISABLED_BladeWithOpenStreamlinesOutside) {
-  const int ppr = 4;
-  const double a = 2.6054, b = 0.3459, cz = 1.1097, th = 7.5622 * M_PI / 180;
-  const double co = std::cos(th), si = std::sin(th), w = 1 / (a / b + b / a);
-  Config cfg = couette_case(16 * ppr, 6 * ppr, 6 * ppr,
-                            solid_keys({"walls.velocity=0.0", "grid.lx=16.0", "grid.ly=6.0", "grid.lz=6.0",
-                                        "particles.radius=1.0", "particles.phi_scheme=\"mthinc\""}));
-  FlowSolver s(cfg, MPI_COMM_WORLD);
-  s.initialize();
-  const Grid g = s.grid();
-  const double ia = cz * cz / (a * a), ib = cz * cz / (b * b);
-  const InsideEllipsoid e{ia * co * co + ib * si * si, (ia - ib) * co * si, ia * si * si + ib * co * co,
-                          cz * cz};
-  fill_blade(g, s.solid()->fields().phi(), e, 8.0, 3.0);
-  s.solid()->fill_ghosts();
-  const OpenBladeFlow flow{w * a * b, a, b, co, si, 8.0};
-  const double dt = 0.1 / ppr;
-  const int every = int(std::lround(10 / dt)), steps = int(std::lround(50 / dt));
-  std::printf("  mthinc, 4 ppr, open streamlines outside: share at t = 0, 10, ...:");
-  for (int n = 0; n <= steps; ++n) {
-    if (n % every == 0) std::printf(" %.2f%%", 100 * low_phi_share(g, s.solid()->fields().phi()));
-    if (n == steps) break;
-    s.solid()->begin_step();
+  const Ca2Blade k;
+  auto s = blade_box("mthinc", 4, 16.0);
+  const OpenBladeFlow flow{k.w * k.a * k.b, k.a, k.b, k.co, k.si, 8.0};
+  const std::vector<double> sh = low_phi_shares(*s, 4, 50, [&](double dt) {
+    s->solid()->begin_step();
     for (int st = 0; st < Rk3::stages; ++st) {
-      set_open_blade_velocity(s, flow);
-      impermeable_walls(s);
-      s.solid()->advance_stage(s.state(), Rk3::gamma[st] * dt, Rk3::zeta[st] * dt, st == Rk3::stages - 1);
-      s.solid()->end_stage();
+      set_open_blade_velocity(*s, flow);
+      impermeable_walls(*s);
+      s->solid()->advance_stage(s->state(), Rk3::gamma[st] * dt, Rk3::zeta[st] * dt, st == Rk3::stages - 1);
+      s->solid()->end_stage();
     }
-  }
+  });
+  std::printf("  mthinc, 4 ppr, open streamlines outside: share at t = 0, 10, ...:");
+  for (double v : sh) std::printf(" %.2f%%", 100 * v);
   std::printf("\n");
 }
