@@ -602,6 +602,7 @@ def lowphi(folders):
                   f"{share(low & (rad >= 2))} | {share(low & detached)} | "
                   f"{100 * (phi * (rad >= 1.25)).sum() / phi.sum():.1f}% | {share((phi >= 0.1) & (phi < 0.5))} |")
 
+
 def interior(folders):
     import h5py
     import numpy as np
