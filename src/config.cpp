@@ -382,6 +382,10 @@ Config parse_config(const std::string& text, const std::string& name,
         throw InputError("'particles.colour_cut' must be in [1e-10, 1e-3] (got " + got.str() + ")");
       }
       r.read("colour_sum_bound", p.colour_sum_bound, false);
+      r.read("solid_model", p.solid_model, false);
+      if (p.solid_model != "phi_b" && p.solid_model != "reference_map")
+        throw InputError("'particles.solid_model' must be \"phi_b\" or \"reference_map\" (got \"" +
+                         p.solid_model + "\")");
       if (r.read_numbers("initial_b", p.initial_b, 6, false)) {
         if (p.shape != "spheres")
           throw InputError("'particles.initial_b' needs 'particles.shape = \"spheres\"'");
@@ -400,6 +404,13 @@ Config parse_config(const std::string& text, const std::string& name,
             2 * p.radius * std::sqrt(p.initial_b[5]) >= c.grid.lz)
           throw InputError(
               "a particle deformed by 'particles.initial_b' is wider than the periodic box in x or z");
+      }
+      if (p.solid_model == "reference_map") {
+        const bool one_sphere = p.shape == "spheres" && (p.count == 1 || p.placement == "centre");
+        if (!one_sphere || p.colour_fields > 0 || p.deformed_start())
+          throw InputError(
+              "'particles.solid_model = \"reference_map\"' is written for one undeformed sphere "
+              "('particles.count = 1' or 'placement = \"centre\"', no 'colour_fields', no 'initial_b')");
       }
     }
     r.finish();

@@ -47,6 +47,9 @@ struct ParticleConfig {
   Real shear_modulus = -1;               // G (exactly one of the two)
   Real viscosity_ratio = 1;              // K = mu_s / mu_f
   // the solid phase's numerics (kernels/mthinc.hpp, kernels/solid_extension.hpp)
+  // "phi_b": phi and B transported (the default); "reference_map": one lone
+  // sphere's phi and B from its reference map xi (src/reference_map.hpp)
+  std::string solid_model = "phi_b";
   std::string phi_scheme = "mthinc";  // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
   Real thinc_beta = 3.5;              // (M)THINC steepness: the interface spans about 2 / beta cells
   bool b_extension = true;  // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)

@@ -156,6 +156,11 @@ void add_solid(std::vector<H5Item>& items, const FlowSolver& s) {
   for (int m = 0; m < n_solid_fields; ++m) items.push_back({names[m], s.solid()->fields().q[m]});
   const ColourFields& c = s.solid()->colours();
   for (int m = 0; m < c.size(); ++m) items.push_back({"colour_" + std::to_string(m), c.colour(m)});
+  const ReferenceMap& map = s.solid()->reference_map();
+  if (map.on()) {
+    for (int m = 0; m < 3; ++m) items.push_back({std::string("xi_") + "xyz"[m], map.xi(m)});
+    items.push_back({"xi_inside", map.inside()});
+  }
 }
 }  // namespace
 
@@ -224,6 +229,8 @@ void Output::checkpoint(const std::vector<ParticleShape>& particles) {
   }
   std::map<std::string, std::vector<double>> arrays;
   if (s_.solid()) arrays["particle_centroids"] = centroids, arrays["particle_reach"] = reach;
+  if (s_.solid() && s_.solid()->reference_map().on())
+    arrays["reference_map_volume"] = {s_.solid()->reference_map().volume()};
   file_.write(path + ".tmp", items,
               {{"time", s_.time},
                {"step", double(s_.step)},
@@ -247,6 +254,11 @@ std::vector<ParticleShape> Output::restart(FlowSolver& s, const std::string& pat
   if (s.solid()) {
     s.solid()->fill_ghosts();
     s.solid()->init_force();
+    if (s.solid()->reference_map().on()) {
+      const std::vector<double> v = FieldFile::read_array(path, "reference_map_volume");
+      if (v.size() != 1) throw InputError("restart file " + path + " holds no reference map volume");
+      s.solid()->reference_map().set_volume(v[0]);
+    }
     const std::vector<double> c = FieldFile::read_array(path, "particle_centroids"),
                               m = FieldFile::read_array(path, "particle_reach");
     std::vector<ParticleShape> shapes(c.size() / 3);

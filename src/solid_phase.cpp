@@ -35,14 +35,21 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
     phi_scheme_.phi_from_colours = true;
     bound_colour_sum_ = cfg.particles.colour_sum_bound;
   }
-  extend_b_ = cfg.particles.b_extension;
+  if (cfg.particles.solid_model == "reference_map") {
+    // allocated here, not in seed(): a restart reads the map into it. The
+    // sphere is the case's (centre, or drawn from its seed), as seed() places it
+    const std::vector<Sphere> s = seed_spheres(cfg);
+    const Real c[3] = {Real(s[0].x), Real(s[0].y), Real(s[0].z)};
+    map_ = ReferenceMap(g, c, cfg.particles.radius);
+  }
+  extend_b_ = cfg.particles.b_extension && !map_.on();
   extend_every_stage_ = cfg.particles.b_extension_stages == "all";
   b_solid_phi_ = cfg.particles.b_solid_phi;
   if (extend_b_) b_live_ = LiveCells(g);
   if (extend_b_ && b_solid_phi_ > phi_solid) core_logs_ = SolidFields(g, "solid_core_log");
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
-  b_check_.on = cfg.particles.b_fallback;
+  b_check_.on = cfg.particles.b_fallback && !map_.on();
   b_check_.det_tol = unimodular_b_ ? cfg.particles.b_fallback_det : 0;
   b_check_.phi_min = extend_b_ ? phi_solid : phi_fluid_cut;
   b_check_.flag = flux_.x;  // the face-flux scratch is free once the stage's fluxes are summed
@@ -173,6 +180,30 @@ void SolidPhase::seed() {
         q.b5(i, j, k) = solid ? s5 : 1;
       });
   fill_ghosts();
+  if (map_.on()) {
+    map_.seed(g_, halo_, flux_);
+    map_.set_volume(solid_volume());
+    solid_from_map();
+  }
+}
+
+Real SolidPhase::solid_volume() const {
+  const Field3 phi = q_.phi();
+  Real v = 0;
+  par_reduce(
+      "solid_volume_sum", g_.interior(), KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += phi(i, j, k); },
+      Kokkos::Sum<Real>(v));
+  MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_SUM, halo_.comm());
+  return v;
+}
+
+void SolidPhase::solid_from_map() {
+  const auto allreduce_sum = [this](Real* x, int n) {
+    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm());
+  };
+  map_.solid_from_map(g_, q_, flux_, allreduce_sum);
+  fill_ghosts();
+  constrain_b(false);
 }
 
 void SolidPhase::fill_ghosts() {
@@ -230,6 +261,7 @@ void SolidPhase::elastic_force(const MomentumRhs& out, const Range3& where) {
 }
 
 void SolidPhase::init_force() {
+  if (map_.on()) map_.resume(g_, halo_);  // a restart's map needs its ghosts
   begin_step();
   for (const MomentumRhs* f : {&force_now_, &force_before_}) {
     Kokkos::deep_copy(f->u, 0.0);
@@ -268,6 +300,12 @@ void SolidPhase::zero_outside(const MomentumRhs& f, const Range3& old_region, co
 }
 
 void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt, bool last_stage) {
+  if (map_.on()) {
+    map_.advance_stage(g_, flow, flux_, gdt, zdt, halo_);
+    solid_from_map();
+    elastic_force(force_now_, force_region_);
+    return;
+  }
   // the right-hand sides vanish beyond phi's current support + 3 cells (the
   // WENO stencil); a dilute case's support is much smaller than the region,
   // which has to hold a whole step's growth

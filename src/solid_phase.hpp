@@ -13,6 +13,7 @@
 #include "config.hpp"
 #include "halo.hpp"
 #include "particle_seeding.hpp"
+#include "reference_map.hpp"
 
 namespace softflow {
 
@@ -55,6 +56,9 @@ class SolidPhase {
   const SolidFields& fields() const { return q_; }
   // with particles.colour_fields: phi's colours (phi is their sum)
   const ColourFields& colours() const { return colours_; }
+  // with particles.solid_model = "reference_map": the map phi and B are read from
+  const ReferenceMap& reference_map() const { return map_; }
+  ReferenceMap& reference_map() { return map_; }
   ColourFields& colours() { return colours_; }
   const MixtureStress& stress() const { return stress_; }
   // K = 1: the mixture's viscosity is the fluid's everywhere, so the
@@ -70,6 +74,8 @@ class SolidPhase {
   // max over this rank's cells of phi lambda_max(B) (Gershgorin bound), at
   // least 1: a neo-Hookean solid's wave speed is sqrt(G lambda_max(B) / rho)
   Real max_stretch() const;
+  // sum of phi over the interior, all ranks
+  Real solid_volume() const;
 
   // det B before the unimodular projection (phi > 0.5 cells; without the
   // projection, after each stage), the sum over stages of the share of
@@ -90,6 +96,8 @@ class SolidPhase {
   // B in the interface band from the solid side (`extend`: as the case asks),
   // then det B = 1 (as the case asks; kernels/solid_extension.hpp)
   void constrain_b(bool extend = true);
+  // reference map: phi and B from the map, then det B = 1 (as the case asks)
+  void solid_from_map();
 
  private:
   const Config& cfg_;
@@ -97,6 +105,7 @@ class SolidPhase {
   Halo& halo_;
   SolidFields q_, rhs_now_, rhs_before_;
   ColourFields colours_;   // empty: phi is transported itself
+  ReferenceMap map_;       // off: phi and B are transported themselves
   FaceFluxes flux_;        // the transport's face-flux scratch
   LiveCells b_live_;       // with B's extension: where B's right-hand side is needed (mark_near with reach 1)
   SolidFields core_logs_;  // with b_solid_phi > 1/2: the core's log B the inner band reads (log_core_b)

@@ -87,9 +87,10 @@ TEST(Config, NonPositiveValuesAreRejected) {
 TEST(Config, SolidNumericsOutOfRangeAreRejected) {
   const std::vector<std::string> sphere = {"particles.radius=0.2", "particles.count=1",
                                            "particles.placement=\"centre\"", "particles.shear_modulus=1.0"};
-  auto with = [&](const std::string& key) {
+  auto with = [&](const std::string& key, const std::string& key2 = "") {
     std::vector<std::string> o = sphere;
     o.push_back(key);
+    if (!key2.empty()) o.push_back(key2);
     return o;
   };
   EXPECT_EQ(error_of(good, with("particles.b_solid_phi=0.9")), "");
@@ -110,6 +111,19 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
   expect_error(
       error_of(good, {"particles.radius=0.2", "particles.count=3", "particles.placement=\"lattice\""}),
       "'particles.placement' must be \"stratified\", \"random\" or \"centre\" (got \"lattice\")");
+  EXPECT_EQ(error_of(good, with("particles.solid_model=\"reference_map\"")), "");
+  expect_error(error_of(good, with("particles.solid_model=\"level_set\"")),
+               "'particles.solid_model' must be \"phi_b\" or \"reference_map\" (got \"level_set\")");
+  // the map is one smooth field: one sphere, undeformed, no colours
+  const std::string one_sphere = "is written for one undeformed sphere";
+  expect_error(error_of(good, {"particles.radius=0.2", "particles.count=3", "particles.shear_modulus=1.0",
+                               "particles.solid_model=\"reference_map\""}),
+               one_sphere);
+  expect_error(error_of(good, with("particles.solid_model=\"reference_map\"", "particles.colour_fields=1")),
+               one_sphere);
+  expect_error(error_of(good, with("particles.solid_model=\"reference_map\"",
+                                   "particles.initial_b=[1.25, 0.5, 0.0, 1.0, 0.0, 1.0]")),
+               one_sphere);
 }
 
 // particles.colour_fields: "auto" (the default) gives one colour per sphere

@@ -11,6 +11,7 @@
 
 #include "config.hpp"
 #include "flow_solver.hpp"
+#include "hdf5_io.hpp"
 
 namespace softflow::test {
 
@@ -105,6 +106,27 @@ inline long count_differing(const Grid& g, const Field3& a, const Field3& b) {
       "test_count_differing", g.interior(),
       KOKKOS_LAMBDA(int i, int j, int k, long& c) { c += a(i, j, k) != b(i, j, k); }, Kokkos::Sum<long>(n));
   return long(global_sum(double(n)));
+}
+
+// per named field, the interior cells (all ranks) where two checkpoints of
+// s's case differ in any bit: a restarted run must end as the unbroken one
+inline std::vector<long> checkpoint_differences(const FlowSolver& s, const std::string& a,
+                                                const std::string& b, const std::vector<std::string>& names) {
+  const Grid g = s.grid();
+  FieldFile file(s.decomposition(), g);
+  std::vector<H5Item> ia, ib;
+  std::vector<Field3> fa, fb;
+  for (const std::string& n : names) {
+    fa.emplace_back("a_" + n, g.sx(), g.sy(), g.sz());
+    fb.emplace_back("b_" + n, g.sx(), g.sy(), g.sz());
+    ia.push_back({n, fa.back()});
+    ib.push_back({n, fb.back()});
+  }
+  file.read(a, ia, {"time"});
+  file.read(b, ib, {"time"});
+  std::vector<long> out;
+  for (size_t m = 0; m < fa.size(); ++m) out.push_back(count_differing(g, fa[m], fb[m]));
+  return out;
 }
 
 }  // namespace softflow::test

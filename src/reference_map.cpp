@@ -1,0 +1,284 @@
+#include "reference_map.hpp"
+
+#include "../kernels/near_mask.hpp"
+#include "../kernels/reference_map.hpp"
+
+namespace softflow {
+
+namespace {
+constexpr int band_reach =
+    3;  // the band's cells lie within 3 of a cell mapping inside: a WENO5 stencil's reach
+constexpr int solid_reach =
+    2;  // cells that can hold solid: within 2 (their central differences stay in the band)
+constexpr Real far_offset = 10;   // xi beyond the band: c + 10 r in every component, far outside the sphere
+constexpr int share_samples = 4;  // sub-cells per direction for a cell's share of the sphere
+// the band fits' ridge weight toward the particle's mean gradient, per unit
+// of the fit's total weight: small beside a fit whose points span 3-D (the
+// gradient block's entries are of order the total weight), decisive where
+// they do not
+constexpr Real ridge = 0.05;
+
+// grad xi at a cell centre by central differences, J[a][b] = d xi_a / d x_b
+struct MapGradient {
+  Field3 x0, x1, x2;
+  Real hx, hy, hz;  // 1 / (2 dx) ...
+  KOKKOS_INLINE_FUNCTION void operator()(int i, int j, int k, Real J[3][3]) const {
+    for (int a = 0; a < 3; ++a) {
+      const Field3& q = a == 0 ? x0 : (a == 1 ? x1 : x2);
+      J[a][0] = (q(i + 1, j, k) - q(i - 1, j, k)) * hx;
+      J[a][1] = (q(i, j + 1, k) - q(i, j - 1, k)) * hy;
+      J[a][2] = (q(i, j, k + 1) - q(i, j, k - 1)) * hz;
+    }
+  }
+};
+
+// grad xi of a cell whose centre maps outside: the gradient of the affine
+// least-squares fit through the cells within 3 that map inside (central
+// differences there would mix the band's cells, each continued by its own
+// fit); false where those cells do not span 3-D
+KOKKOS_INLINE_FUNCTION bool fitted_gradient(const Field3& inside, const Field3& x0, const Field3& x1,
+                                            const Field3& x2, const Real h[3], const GradientPrior& p, int i,
+                                            int j, int k, Real J[3][3]) {
+  AffineFit fit;
+  Real wsum = 0;
+  constexpr int R = band_reach;
+  for (int c = -R; c <= R; ++c)
+    for (int b = -R; b <= R; ++b)
+      for (int a = -R; a <= R; ++a) {
+        if (inside(i + a, j + b, k + c) == 0) continue;
+        const Real o[3] = {Real(a), Real(b), Real(c)};
+        const Real v[3] = {x0(i + a, j + b, k + c), x1(i + a, j + b, k + c), x2(i + a, j + b, k + c)};
+        const Real w = Real(1) / Real(a * a + b * b + c * c);
+        fit.add(o, v, w);
+        wsum += w;
+      }
+  if (wsum == 0) return false;
+  fit.prior(p.G, ridge * wsum);
+  Real value[3], G[3][3];
+  if (!fit.solve(value, G)) return false;
+  for (int m = 0; m < 3; ++m)
+    for (int b = 0; b < 3; ++b) J[m][b] = G[m][b] / h[b];
+  return true;
+}
+
+// 1 where a cell's centre maps inside the reference sphere, else 0, on every
+// cell of the storage (ghosts included: the masks read them)
+void mark_inside(const Field3* xi, const Real* c, Real r, const Field3& out) {
+  const Field3 x0 = xi[0], x1 = xi[1], x2 = xi[2];
+  const Real c0 = c[0], c1 = c[1], c2 = c[2], r2 = r * r;
+  const Range3 all{0, int(out.extent(0)), 0, int(out.extent(1)), 0, int(out.extent(2))};
+  par_for(
+      "refmap_inside", all, KOKKOS_LAMBDA(int i, int j, int k) {
+        const Real a = x0(i, j, k) - c0, b = x1(i, j, k) - c1, e = x2(i, j, k) - c2;
+        out(i, j, k) = a * a + b * b + e * e < r2 ? Real(1) : Real(0);
+      });
+}
+}  // namespace
+
+ReferenceMap::ReferenceMap(const Grid& g, const Real c[3], Real r) : r_(r) {
+  const char* names[3] = {"xi_x", "xi_y", "xi_z"};
+  for (int m = 0; m < 3; ++m) {
+    c_[m] = c[m];
+    xi_[m] = Field3(std::string(names[m]), g.sx(), g.sy(), g.sz());
+    now_[m] = Field3(std::string(names[m]) + "_rhs_now", g.sx(), g.sy(), g.sz());
+    before_[m] = Field3(std::string(names[m]) + "_rhs_before", g.sx(), g.sy(), g.sz());
+  }
+  inside_ = Field3("xi_inside", g.sx(), g.sy(), g.sz());
+}
+
+void ReferenceMap::fill_ghosts(const Grid& g, Halo& halo) const {
+  halo.exchange({xi_[0], xi_[1], xi_[2]});
+  // walls: even reflection, as phi and B (the particle never reaches them)
+  const int ng = Grid::ng, ny = g.ny;
+  const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
+  par_for(
+      "refmap_walls", Range3{0, g.sx(), 0, ng, 0, g.sz()}, KOKKOS_LAMBDA(int i, int m, int k) {
+        x0(i, ng - 1 - m, k) = x0(i, ng + m, k);
+        x1(i, ng - 1 - m, k) = x1(i, ng + m, k);
+        x2(i, ng - 1 - m, k) = x2(i, ng + m, k);
+        x0(i, ng + ny + m, k) = x0(i, ng + ny - 1 - m, k);
+        x1(i, ng + ny + m, k) = x1(i, ng + ny - 1 - m, k);
+        x2(i, ng + ny + m, k) = x2(i, ng + ny - 1 - m, k);
+      });
+}
+
+void ReferenceMap::resume(const Grid& g, Halo& halo) {
+  fill_ghosts(g, halo);
+  halo.exchange({inside_});
+}
+
+void ReferenceMap::seed(const Grid& g, Halo& halo, const FaceFluxes& scratch) {
+  const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
+  const Grid gg = g;
+  par_for(
+      "refmap_seed", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        x0(i, j, k) = gg.xc(i);
+        x1(i, j, k) = gg.yc(j);
+        x2(i, j, k) = gg.zc(k);
+      });
+  for (int m = 0; m < 3; ++m) Kokkos::deep_copy(before_[m], 0.0);
+  fill_ghosts(g, halo);
+  mark_inside(xi_, c_, r_, inside_);
+  refit_band(g, halo, scratch);
+}
+
+void ReferenceMap::advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux, Real gdt,
+                                 Real zdt, Halo& halo) {
+  // u . grad xi = div(u xi) for the projected (discretely divergence-free)
+  // velocity: the transport's flux form with WENO5 face values
+  for (int m = 0; m < 3; ++m) phi_transport_rhs(g, flow, xi_[m], now_[m], flux, g.interior(), PhiScheme{});
+  for (int m = 0; m < 3; ++m) {
+    const Field3 q = xi_[m], a = now_[m], b = before_[m];
+    par_for(
+        "refmap_rk3_update", g.interior(),
+        KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += gdt * a(i, j, k) + zdt * b(i, j, k); });
+    std::swap(now_[m], before_[m]);
+  }
+  fill_ghosts(g, halo);
+  refit_band(g, halo, flux);
+}
+
+// Layer by layer, as a marching extension: the cells next to the valid ones
+// (first those mapping inside) are fitted from the valid cells within 3, then
+// count as valid. A cell three out fitted from the inside cells alone would
+// see only a thin cap of them, too flat to fix an affine map.
+void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scratch) {
+  const Field3 valid = scratch.z, next = scratch.x, inside = inside_;
+  const auto allreduce_sum = [&halo](Real* x, int n) {
+    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo.comm());
+  };
+  // a cell maps inside only next to one that did before the stage (the
+  // interface moves less than a cell in one): a cell at the band's edge can
+  // take a value mixed with the far value's that happens to map inside
+  mark_inside(xi_, c_, r_, valid);
+  mark_near(inside, 0.5, 1, g.interior(), scratch.x, scratch.y, next);
+  par_for(
+      "refmap_inside_kept", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const Real v = valid(i, j, k) != 0 && next(i, j, k) != 0 ? Real(1) : Real(0);
+        valid(i, j, k) = v;
+        inside(i, j, k) = v;
+      });
+  halo.exchange({valid, inside});
+  const GradientPrior prior = mean_gradient(g, allreduce_sum);
+  const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
+  for (int layer = 1; layer <= band_reach; ++layer) {
+    mark_near(valid, 0.5, 1, g.interior(), scratch.x, scratch.y, next);
+    // a layer's cell reads only valid cells, which this pass does not write
+    par_for(
+        "refmap_band", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          if (valid(i, j, k) != 0 || next(i, j, k) == 0) return;
+          AffineFit fit;
+          Real mean[3] = {0, 0, 0}, wsum = 0;
+          constexpr int R = band_reach;
+          for (int c = -R; c <= R; ++c)
+            for (int b = -R; b <= R; ++b)
+              for (int a = -R; a <= R; ++a) {
+                if (valid(i + a, j + b, k + c) == 0) continue;
+                const Real o[3] = {Real(a), Real(b), Real(c)};  // in cells: a well-scaled system
+                const Real v[3] = {x0(i + a, j + b, k + c), x1(i + a, j + b, k + c), x2(i + a, j + b, k + c)};
+                const Real w = Real(1) / Real(a * a + b * b + c * c);  // the nearer, the more
+                fit.add(o, v, w);
+                for (int m = 0; m < 3; ++m) mean[m] += w * v[m];
+                wsum += w;
+              }
+          fit.prior(prior.G, ridge * wsum);
+          Real out[3];
+          if (!fit.solve(out))
+            for (int m = 0; m < 3; ++m) out[m] = mean[m] / wsum;  // too few cells to span 3-D
+          x0(i, j, k) = out[0], x1(i, j, k) = out[1], x2(i, j, k) = out[2];
+        });
+    par_for(
+        "refmap_band_valid", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+          if (next(i, j, k) != 0) valid(i, j, k) = 1;
+        });
+    fill_ghosts(g, halo);
+    halo.exchange({valid});
+  }
+  const Real far0 = c_[0] + far_offset * r_, far1 = c_[1] + far_offset * r_, far2 = c_[2] + far_offset * r_;
+  par_for(
+      "refmap_far", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        if (valid(i, j, k) == 0) x0(i, j, k) = far0, x1(i, j, k) = far1, x2(i, j, k) = far2;
+      });
+  fill_ghosts(g, halo);
+}
+
+GradientPrior ReferenceMap::mean_gradient(const Grid& g,
+                                          const std::function<void(Real*, int)>& allreduce_sum) const {
+  const Field3 inside = inside_;
+  const Range3 cells = g.interior();
+  Real sums[12];  // 9 sums of differences, then the pairs per axis
+  for (int b = 0; b < 3; ++b) {
+    const int di = b == 0, dj = b == 1, dk = b == 2;
+    for (int m = 0; m <= 3; ++m) {
+      const Field3 x = m < 3 ? xi_[m] : inside_;
+      const bool count = m == 3;
+      Real s = 0;
+      par_reduce(
+          "refmap_mean_gradient", cells,
+          KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+            if (inside(i, j, k) == 0 || inside(i + di, j + dj, k + dk) == 0) return;
+            a += count ? Real(1) : x(i + di, j + dj, k + dk) - x(i, j, k);
+          },
+          Kokkos::Sum<Real>(s));
+      sums[m < 3 ? 3 * m + b : 9 + b] = s;
+    }
+  }
+  allreduce_sum(sums, 12);
+  GradientPrior p;
+  const Real h[3] = {g.dx, g.dy, g.dz};  // xi = x where no pair says otherwise
+  for (int m = 0; m < 3; ++m)
+    for (int b = 0; b < 3; ++b) p.G[m][b] = sums[9 + b] > 0 ? sums[3 * m + b] / sums[9 + b] : (m == b) * h[b];
+  return p;
+}
+
+Real ReferenceMap::solid_from_map(const Grid& g, const SolidFields& f, const FaceFluxes& scratch,
+                                  const std::function<void(Real*, int)>& allreduce_sum) const {
+  const Field3 near = scratch.x, inside = inside_;
+  const GradientPrior prior = mean_gradient(g, allreduce_sum);
+  mark_near(inside_, 0.5, solid_reach, g.interior(), scratch.x, scratch.y, near);
+  const MapGradient grad{xi_[0], xi_[1], xi_[2], 1 / (2 * g.dx), 1 / (2 * g.dy), 1 / (2 * g.dz)};
+  const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
+  const Real c0 = c_[0], c1 = c_[1], c2 = c_[2], r = r_;
+  const Real h0 = g.dx, h1 = g.dy, h2 = g.dz;
+  const SolidViews q(f);
+  par_for(
+      "refmap_phi", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        if (near(i, j, k) == 0) {
+          q.phi(i, j, k) = 0;
+          q.b0(i, j, k) = q.b3(i, j, k) = q.b5(i, j, k) = 1;
+          q.b1(i, j, k) = q.b2(i, j, k) = q.b4(i, j, k) = 0;
+          return;
+        }
+        Real J[3][3];
+        const Real h[3] = {h0, h1, h2};
+        if (inside(i, j, k) != 0 || !fitted_gradient(inside, x0, x1, x2, h, prior, i, j, k, J))
+          grad(i, j, k, J);
+        const Real d[3] = {x0(i, j, k) - c0, x1(i, j, k) - c1, x2(i, j, k) - c2};
+        const Real p = reference_ball_share(d, J, r, h, share_samples);
+        q.phi(i, j, k) = p;
+        Real B[6] = {1, 0, 0, 1, 0, 1};
+        if (p > 0) b_from_map_gradient(J, B);
+        for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = B[m];
+      });
+  // the sphere's volume, to round-off: the sum's error into the interface
+  // cells in proportion to phi (1 - phi), as phi_bounded_redistribution
+  Real sums[2] = {0, 0};
+  par_reduce(
+      "refmap_volume", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += kept_phi(q.phi(i, j, k)); },
+      Kokkos::Sum<Real>(sums[0]));
+  par_reduce(
+      "refmap_interface_weight", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += interface_weight(q.phi(i, j, k), phi_zero_cut); },
+      Kokkos::Sum<Real>(sums[1]));
+  allreduce_sum(sums, 2);
+  const Real e = volume_ - sums[0];
+  const Real a = redistribution_coefficient(e, sums[1]);
+  par_for(
+      "refmap_phi_volume", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        q.phi(i, j, k) = redistributed_phi(q.phi(i, j, k), a, phi_zero_cut);
+      });
+  return volume_ > 0 ? e / volume_ : Real(0);
+}
+
+}  // namespace softflow

@@ -1,0 +1,69 @@
+// The reference map of one particle (particles.solid_model =
+// "reference_map"): xi, the undeformed position of the material in each
+// cell, advected with the flow, d xi / dt + u . grad xi = 0. phi and B are
+// read off it after every RK3 stage, in the method's order:
+//   1. advance: xi's WENO5 advection and its RK3 update (advance_stage);
+//   2. band: where a cell's centre maps outside the reference sphere, xi is
+//      replaced by the affine least-squares continuation of the cells that
+//      map inside (within 3 cells; farther out, a far value), so the map
+//      stays smooth across the interface and the fluid's shear never
+//      stretches it (refit_band);
+//   3. phi: each cell's share of the reference sphere's image, xi linear
+//      across the cell; the sphere's volume kept to round-off by moving the
+//      sum's error into the interface cells as phi's bounded redistribution
+//      does (phi_from_map);
+//   4. B = F F^T, F = (grad xi)^-1, where phi > 0 (b_from_map).
+// One lone sphere, so that xi is one smooth field; the dense cases would need
+// one map per particle (the colour fields' boxes).
+#pragma once
+#include <functional>
+
+#include "../kernels/flow_state.hpp"
+#include "../kernels/reference_map.hpp"
+#include "../kernels/solid_state.hpp"
+#include "../kernels/solid_transport.hpp"
+#include "grid.hpp"
+#include "halo.hpp"
+
+namespace softflow {
+
+class ReferenceMap {
+ public:
+  ReferenceMap() = default;  // off
+  // the sphere of radius r about c is the reference configuration
+  ReferenceMap(const Grid& g, const Real c[3], Real r);
+  bool on() const { return xi_[0].data() != nullptr; }
+  const Field3& xi(int m) const { return xi_[m]; }
+  const Field3& inside() const { return inside_; }
+  Real volume() const { return volume_; }
+
+  // xi = x (the undeformed particle), then the band
+  void seed(const Grid& g, Halo& halo, const FaceFluxes& scratch);
+  // the target of step 3: the solid volume (at the start and on restart)
+  void set_volume(Real v) { volume_ = v; }
+  // steps 1 and 2 (flux: the transport's face-flux scratch)
+  void advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux, Real gdt, Real zdt,
+                     Halo& halo);
+  // steps 3 and 4 into q (interior cells); returns the volume error step 3
+  // moved, relative to the volume
+  Real solid_from_map(const Grid& g, const SolidFields& q, const FaceFluxes& scratch,
+                      const std::function<void(Real*, int)>& allreduce_sum) const;
+  void fill_ghosts(const Grid& g, Halo& halo) const;
+  // after a restart read xi and the inside marks: their ghosts
+  void resume(const Grid& g, Halo& halo);
+
+  // public only because nvcc's device lambdas cannot live in private members:
+  // step 2 (after seed and every advance)
+  void refit_band(const Grid& g, Halo& halo, const FaceFluxes& scratch);
+  // the band fits' prior: the mean difference of xi between neighbouring
+  // inside cells, per axis (grad xi in cell offsets)
+  GradientPrior mean_gradient(const Grid& g, const std::function<void(Real*, int)>& allreduce_sum) const;
+
+ private:
+  Field3 xi_[3], now_[3], before_[3];
+  Field3 inside_;  // 1 where a cell's centre maps inside the sphere (after the last band refit)
+  Real c_[3] = {0, 0, 0}, r_ = 1;
+  Real volume_ = 0;
+};
+
+}  // namespace softflow
