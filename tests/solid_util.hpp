@@ -51,6 +51,18 @@ struct Vec3 {
   double u, v, w;
 };
 
+// The velocity of steady tank-treading: streamlines x'^2/a^2 + y'^2/b^2 =
+// const in axes turned by theta (cos c, sin n) about (xc, y = 0), turning at
+// rate w; divergence-free, tangent to the ellipse of axes a, b.
+struct TankTreading {
+  double w, a, b, c, n, xc;
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(double x, double y, double, double) const {
+    const double X = c * (x - xc) + n * y, Y = -n * (x - xc) + c * y;
+    const double U = -w * a / b * Y, V = w * b / a * X;
+    return {c * U - n * V, n * U + c * V, 0.0};
+  }
+};
+
 // One RK3 step of phi and B alone, in the velocity f prescribes at each
 // stage's start (walls impermeable).
 template <class F>

@@ -622,17 +622,6 @@ Config thinc_transport_box(const std::string& scheme = "thinc") {
                       solid_keys({"walls.velocity=0.0", "grid.lx=6.0", "grid.ly=6.0", "grid.lz=6.0",
                                   "particles.radius=1.0", "particles.phi_scheme=\"" + scheme + "\""}));
 }
-// The velocity of steady tank-treading: streamlines x'^2/a^2 + y'^2/b^2 =
-// const in axes turned by theta (cos c, sin n) about (xc, y = 0), turning at
-// rate w; divergence-free, tangent to the ellipse of axes a, b.
-struct TankTreading {
-  double w, a, b, c, n, xc;
-  KOKKOS_INLINE_FUNCTION Vec3 operator()(double x, double y, double, double) const {
-    const double X = c * (x - xc) + n * y, Y = -n * (x - xc) + c * y;
-    const double U = -w * a / b * Y, V = w * b / a * X;
-    return {c * U - n * V, n * U + c * V, 0.0};
-  }
-};
 }  // namespace
 
 // phi alone, carried by THINC and by MTHINC in the velocity of a steady
