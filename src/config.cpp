@@ -386,6 +386,10 @@ Config parse_config(const std::string& text, const std::string& name,
       if (p.solid_model != "phi_b" && p.solid_model != "reference_map")
         throw InputError("'particles.solid_model' must be \"phi_b\" or \"reference_map\" (got \"" +
                          p.solid_model + "\")");
+      r.read("map_volume_correction", p.map_volume_correction, false);
+      if (p.map_volume_correction && p.solid_model != "reference_map")
+        throw InputError(
+            "'particles.map_volume_correction' needs 'particles.solid_model = \"reference_map\"'");
       if (r.read_numbers("initial_b", p.initial_b, 6, false)) {
         if (p.shape != "spheres")
           throw InputError("'particles.initial_b' needs 'particles.shape = \"spheres\"'");

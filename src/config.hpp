@@ -50,8 +50,9 @@ struct ParticleConfig {
   // "phi_b": phi and B transported (the default); "reference_map": one lone
   // sphere's phi and B from its reference map xi (src/reference_map.hpp)
   std::string solid_model = "phi_b";
-  std::string phi_scheme = "mthinc";  // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
-  Real thinc_beta = 3.5;              // (M)THINC steepness: the interface spans about 2 / beta cells
+  bool map_volume_correction = false;  // "reference_map": the map made volume-preserving once a step
+  std::string phi_scheme = "mthinc";   // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
+  Real thinc_beta = 3.5;               // (M)THINC steepness: the interface spans about 2 / beta cells
   bool b_extension = true;  // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)
   Real b_solid_phi = 0.9;   // at or above: B by its own equation; below: from the core (>= 0.5) or solid
   std::string b_extension_stages = "last";  // B's extension after a step's last stage, or "all"

@@ -263,6 +263,8 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
   f.elastic_share_lowphi = lows.q[1] != 0 ? lows.q[0] / lows.q[1] : 0;
   const SolidPhase::BStats b = s_.solid()->take_b_stats();
   f.unimodular_removed = b.stages > 0 ? b.removed_sum / Real(b.stages) : 0;
+  f.map_det_corrected = b.map_det_corrected;
+  f.map_volume_moved = b.map_volume_moved;
   long fallback = b.fallback_cells;
   MPI_Allreduce(MPI_IN_PLACE, &fallback, 1, MPI_LONG, MPI_SUM, s_.decomposition().comm);
   f.b_fallback_cells = fallback;

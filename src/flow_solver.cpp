@@ -48,7 +48,10 @@ FlowSolver::FlowSolver(const Config& cfg, MPI_Comm comm)
     mms_.vw = cfg.walls.velocity;
     mms_.nu = cfg.nu();
   }
-  if (cfg.particles.enabled) solid_ = std::make_unique<SolidPhase>(cfg_, grid_, halo_);
+  if (cfg.particles.enabled) {
+    solid_ = std::make_unique<SolidPhase>(cfg_, grid_, halo_);
+    solid_->use_poisson(poisson_);
+  }
   if (cfg.time.implicit_viscous()) {
     implicit_ = true;
     const Real k = cfg.particles.enabled ? cfg.particles.viscosity_ratio : Real(1);

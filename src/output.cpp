@@ -31,7 +31,8 @@ std::string series_header(bool solid) {
   for (int b = 0; b < n_budget; ++b) h += std::string(",") + budget_name(b);
   if (solid)
     h += ",solid_volume,phi_min,phi_max,detb_min,detb_max,detb_raw_min,detb_raw_max,unimodular_removed,"
-         "elastic_share_lowphi,b_fallback_cells,solid_share_lowphi,n1_elastic";
+         "elastic_share_lowphi,b_fallback_cells,solid_share_lowphi,n1_elastic,map_det_corrected,map_volume_"
+         "moved";
   return h;
 }
 const char* particles_header =
@@ -105,7 +106,8 @@ void Output::series_row(const FlowScalars& f, Real dt) {
     r << "," << std::setprecision(17) << f.solid_volume << std::setprecision(10) << "," << f.phi_min << ","
       << f.phi_max << "," << f.detb_min << "," << f.detb_max << "," << f.detb_raw_min << "," << f.detb_raw_max
       << "," << f.unimodular_removed << "," << f.elastic_share_lowphi << "," << f.b_fallback_cells << ","
-      << f.solid_share_lowphi << "," << f.n1_elastic;
+      << f.solid_share_lowphi << "," << f.n1_elastic << "," << f.map_det_corrected << ","
+      << f.map_volume_moved;
   series_.append(r.str());
 }
 

@@ -1,6 +1,8 @@
 #include "reference_map.hpp"
 
 #include "../kernels/near_mask.hpp"
+#include "../kernels/projection.hpp"
+#include "../kernels/wall_bc.hpp"
 #include "../kernels/reference_map.hpp"
 
 namespace softflow {
@@ -105,6 +107,8 @@ void ReferenceMap::fill_ghosts(const Grid& g, Halo& halo) const {
 void ReferenceMap::resume(const Grid& g, Halo& halo) {
   fill_ghosts(g, halo);
   halo.exchange({inside_});
+  prior_ = mean_gradient(
+      g, [&halo](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo.comm()); });
 }
 
 void ReferenceMap::seed(const Grid& g, Halo& halo, const FaceFluxes& scratch) {
@@ -159,7 +163,8 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
         inside(i, j, k) = v;
       });
   halo.exchange({valid, inside});
-  const GradientPrior prior = mean_gradient(g, allreduce_sum);
+  prior_ = mean_gradient(g, allreduce_sum);
+  const GradientPrior prior = prior_;
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
   for (int layer = 1; layer <= band_reach; ++layer) {
     mark_near(valid, 0.5, 1, g.interior(), scratch.x, scratch.y, next);
@@ -202,6 +207,77 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
   fill_ghosts(g, halo);
 }
 
+Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& halo,
+                                  const FaceFluxes& scratch) {
+  const MapGradient grad{xi_[0], xi_[1], xi_[2], 1 / (2 * g.dx), 1 / (2 * g.dy), 1 / (2 * g.dz)};
+  const Field3 inside = inside_, s = scratch.y, psi = scratch.x;
+  // s = 1 - 1 / det J in the inside cells: their sum, count and largest det B error
+  Real sums[2] = {0, 0}, worst = 0;
+  par_for(
+      "refmap_volume_source", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        Real J[3][3], F[3][3];
+        grad(i, j, k, J);
+        const Real det = invert_map_gradient(J, F);
+        s(i, j, k) = inside(i, j, k) != 0 && det > 0 ? 1 - 1 / det : Real(0);
+      });
+  par_reduce(
+      "refmap_volume_source_sum", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += s(i, j, k); }, Kokkos::Sum<Real>(sums[0]));
+  par_reduce(
+      "refmap_volume_inside_count", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += inside(i, j, k); }, Kokkos::Sum<Real>(sums[1]));
+  par_reduce(
+      "refmap_volume_worst", g.interior(),
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
+        if (inside(i, j, k) == 0) return;
+        const Real r = 1 / (1 - s(i, j, k));  // det J
+        const Real e = Kokkos::fabs(1 / (r * r) - 1);
+        a = e > a ? e : a;
+      },
+      Kokkos::Max<Real>(worst));
+  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, halo.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, halo.comm());
+  const Real cells = Real(g.nx) * g.ny * g.nz;
+  if (sums[1] == 0 || sums[1] == cells) return worst;
+  // the source's sum, sunk evenly in the fluid (the walls are Neumann): the
+  // map's total volume is corrected too, and the fluid's xi is never read
+  const Real sink = -sums[0] / (cells - sums[1]);
+  const Array1 rhs = poisson.rhs();
+  const int ng = Grid::ng, ny = g.ny, nxl = g.nxl;
+  par_for(
+      "refmap_volume_rhs", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        rhs(PoissonSolver::index(i - ng, j - ng, k - ng, ny, nxl)) = inside(i, j, k) != 0 ? s(i, j, k) : sink;
+      });
+  poisson.solve();
+  poisson_to_field(g, rhs, psi);
+  halo.exchange({psi});
+  apply_pressure_walls(g, psi);
+  // xi(x - d) = xi - J d, d = grad psi (central): into now_ (free after the stage's swap)
+  const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2], d0 = now_[0], d1 = now_[1], d2 = now_[2];
+  const Real hx = 1 / (2 * g.dx), hy = 1 / (2 * g.dy), hz = 1 / (2 * g.dz);
+  par_for(
+      "refmap_volume_shift", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        Real J[3][3];
+        grad(i, j, k, J);
+        const Real d[3] = {(psi(i + 1, j, k) - psi(i - 1, j, k)) * hx,
+                           (psi(i, j + 1, k) - psi(i, j - 1, k)) * hy,
+                           (psi(i, j, k + 1) - psi(i, j, k - 1)) * hz};
+        const bool in = inside(i, j, k) != 0;
+        d0(i, j, k) = in ? J[0][0] * d[0] + J[0][1] * d[1] + J[0][2] * d[2] : Real(0);
+        d1(i, j, k) = in ? J[1][0] * d[0] + J[1][1] * d[1] + J[1][2] * d[2] : Real(0);
+        d2(i, j, k) = in ? J[2][0] * d[0] + J[2][1] * d[1] + J[2][2] * d[2] : Real(0);
+      });
+  par_for(
+      "refmap_volume_apply", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        x0(i, j, k) -= d0(i, j, k);
+        x1(i, j, k) -= d1(i, j, k);
+        x2(i, j, k) -= d2(i, j, k);
+      });
+  fill_ghosts(g, halo);
+  refit_band(g, halo, scratch);
+  return worst;
+}
+
 GradientPrior ReferenceMap::mean_gradient(const Grid& g,
                                           const std::function<void(Real*, int)>& allreduce_sum) const {
   const Field3 inside = inside_;
@@ -234,7 +310,8 @@ GradientPrior ReferenceMap::mean_gradient(const Grid& g,
 Real ReferenceMap::solid_from_map(const Grid& g, const SolidFields& f, const FaceFluxes& scratch,
                                   const std::function<void(Real*, int)>& allreduce_sum) const {
   const Field3 near = scratch.x, inside = inside_;
-  const GradientPrior prior = mean_gradient(g, allreduce_sum);
+  // the band's refit took it from the same inside cells (the refit writes only outside ones)
+  const GradientPrior prior = prior_;
   mark_near(inside_, 0.5, solid_reach, g.interior(), scratch.x, scratch.y, near);
   const MapGradient grad{xi_[0], xi_[1], xi_[2], 1 / (2 * g.dx), 1 / (2 * g.dy), 1 / (2 * g.dz)};
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];

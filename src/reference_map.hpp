@@ -24,6 +24,7 @@
 #include "../kernels/solid_transport.hpp"
 #include "grid.hpp"
 #include "halo.hpp"
+#include "poisson.hpp"
 
 namespace softflow {
 
@@ -44,6 +45,15 @@ class ReferenceMap {
   // steps 1 and 2 (flux: the transport's face-flux scratch)
   void advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux, Real gdt, Real zdt,
                      Halo& halo);
+  // step 2b (particles.map_volume_correction), after a step's last stage: the
+  // map made volume-preserving to first order by a potential displacement
+  // d = grad psi of its material, L psi = 1 - 1 / det(grad xi) in the cells
+  // mapping inside (their sum sunk evenly in the fluid), xi <- xi - (grad
+  // xi) d, then the band refitted. An incompressible flow has no force that
+  // sees det(grad xi) (an isotropic stress is a pressure), so nothing else
+  // removes the map's volume error. Returns max |det B - 1| over the inside
+  // cells before the correction (det B = det(grad xi)^-2)
+  Real correct_volume(const Grid& g, PoissonSolver& poisson, Halo& halo, const FaceFluxes& scratch);
   // steps 3 and 4 into q (interior cells); returns the volume error step 3
   // moved, relative to the volume
   Real solid_from_map(const Grid& g, const SolidFields& q, const FaceFluxes& scratch,
@@ -61,7 +71,8 @@ class ReferenceMap {
 
  private:
   Field3 xi_[3], now_[3], before_[3];
-  Field3 inside_;  // 1 where a cell's centre maps inside the sphere (after the last band refit)
+  Field3 inside_;          // 1 where a cell's centre maps inside the sphere (after the last band refit)
+  GradientPrior prior_{};  // the last band refit's prior: solid_from_map's fits use the same
   Real c_[3] = {0, 0, 0}, r_ = 1;
   Real volume_ = 0;
 };

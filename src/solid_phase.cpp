@@ -41,6 +41,7 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
     const std::vector<Sphere> s = seed_spheres(cfg);
     const Real c[3] = {Real(s[0].x), Real(s[0].y), Real(s[0].z)};
     map_ = ReferenceMap(g, c, cfg.particles.radius);
+    map_volume_correction_ = cfg.particles.map_volume_correction;
   }
   extend_b_ = cfg.particles.b_extension && !map_.on();
   extend_every_stage_ = cfg.particles.b_extension_stages == "all";
@@ -201,7 +202,8 @@ void SolidPhase::solid_from_map() {
   const auto allreduce_sum = [this](Real* x, int n) {
     MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo_.comm());
   };
-  map_.solid_from_map(g_, q_, flux_, allreduce_sum);
+  const Real moved = map_.solid_from_map(g_, q_, flux_, allreduce_sum);
+  b_stats_.map_volume_moved = std::max(b_stats_.map_volume_moved, std::abs(moved));
   fill_ghosts();
   constrain_b(false);
 }
@@ -302,6 +304,10 @@ void SolidPhase::zero_outside(const MomentumRhs& f, const Range3& old_region, co
 void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt, bool last_stage) {
   if (map_.on()) {
     map_.advance_stage(g_, flow, flux_, gdt, zdt, halo_);
+    // once a step: a stage's drift is small, and the correction costs a Poisson solve
+    if (last_stage && map_volume_correction_)
+      b_stats_.map_det_corrected =
+          std::max(b_stats_.map_det_corrected, map_.correct_volume(g_, *poisson_, halo_, flux_));
     solid_from_map();
     elastic_force(force_now_, force_region_);
     return;

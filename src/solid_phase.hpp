@@ -44,6 +44,9 @@ class SolidPhase {
   // after every stage, or after a step's last one only, as
   // particles.b_extension_stages says); then compute the new elastic force
   void advance_stage(const FlowState& flow, Real gdt, Real zdt, bool last_stage);
+  // the flow's Poisson solver, free between its projections (the reference
+  // map's volume correction solves with it)
+  void use_poisson(PoissonSolver& p) { poisson_ = &p; }
   // the elastic force of the current phi, B into force_before() (start of a
   // run, restart or a changed phi/B); also sets the region
   void init_force();
@@ -86,6 +89,10 @@ class SolidPhase {
     Real det_min = 1e300, det_max = -1e300, removed_sum = 0;
     long stages = 0;
     long fallback_cells = 0;  // cell-stages of this rank whose B took the first-order fallback
+    // the reference map's: the largest |det B - 1| its volume correction
+    // found (before correcting), and the largest volume error, relative, its
+    // phi moved into the interface cells (all ranks)
+    Real map_det_corrected = 0, map_volume_moved = 0;
   };
   BStats take_b_stats();
 
@@ -104,7 +111,9 @@ class SolidPhase {
   Grid g_;
   Halo& halo_;
   SolidFields q_, rhs_now_, rhs_before_;
-  ColourFields colours_;   // empty: phi is transported itself
+  ColourFields colours_;  // empty: phi is transported itself
+  PoissonSolver* poisson_ = nullptr;
+  bool map_volume_correction_ = false;
   ReferenceMap map_;       // off: phi and B are transported themselves
   FaceFluxes flux_;        // the transport's face-flux scratch
   LiveCells b_live_;       // with B's extension: where B's right-hand side is needed (mark_near with reach 1)

@@ -114,6 +114,10 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
   EXPECT_EQ(error_of(good, with("particles.solid_model=\"reference_map\"")), "");
   expect_error(error_of(good, with("particles.solid_model=\"level_set\"")),
                "'particles.solid_model' must be \"phi_b\" or \"reference_map\" (got \"level_set\")");
+  EXPECT_EQ(error_of(good, with("particles.solid_model=\"reference_map\"", "particles.map_volume_correction=true")),
+            "");
+  expect_error(error_of(good, with("particles.map_volume_correction=true")),
+               "'particles.map_volume_correction' needs 'particles.solid_model = \"reference_map\"'");
   // the map is one smooth field: one sphere, undeformed, no colours
   const std::string one_sphere = "is written for one undeformed sphere";
   expect_error(error_of(good, {"particles.radius=0.2", "particles.count=3", "particles.shear_modulus=1.0",
