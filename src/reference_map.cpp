@@ -4,6 +4,7 @@
 #include "../kernels/projection.hpp"
 #include "../kernels/wall_bc.hpp"
 #include "../kernels/reference_map.hpp"
+#include "../kernels/solid_region.hpp"
 
 namespace softflow {
 
@@ -12,6 +13,12 @@ constexpr int band_reach =
     3;  // the band's cells lie within 3 of a cell mapping inside: a WENO5 stencil's reach
 constexpr int solid_reach =
     2;  // cells that can hold solid: within 2 (their central differences stay in the band)
+// a step's work box around the cells mapping inside at its start: the inside
+// set grows by at most one cell a refit (refmap_inside_kept; four refits a
+// step with the volume correction), the band reaches 3 beyond it, and the
+// cells valid at the step's start (within 3) must be reset to the far value
+// if they leave the band; 4 + 3 = 7, and one to spare
+constexpr int work_margin = 2 * band_reach + 2;
 constexpr Real far_offset = 10;   // xi beyond the band: c + 10 r in every component, far outside the sphere
 constexpr int share_samples = 4;  // sub-cells per direction for a cell's share of the sphere
 // the band fits' ridge weight toward the particle's mean gradient, per unit
@@ -105,10 +112,54 @@ void ReferenceMap::fill_ghosts(const Grid& g, Halo& halo) const {
 }
 
 void ReferenceMap::resume(const Grid& g, Halo& halo) {
+  work_ = g.interior();  // until begin_step
   fill_ghosts(g, halo);
   halo.exchange({inside_});
   prior_ = mean_gradient(
       g, [&halo](Real* x, int n) { MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, halo.comm()); });
+}
+
+void ReferenceMap::begin_step(const Grid& g, MPI_Comm comm, bool whole) {
+  const Range3 in = g.interior();
+  if (whole) {
+    work_ = in;
+    return;
+  }
+  // the inside cells' box in global indices (a rank sees only its part)
+  const Field3 inside = inside_;
+  const int ng = Grid::ng, x0 = g.x0, z0 = g.z0;
+  IndexBox box;
+  par_reduce(
+      "refmap_work_box", in,
+      KOKKOS_LAMBDA(int i, int j, int k, IndexBox& b) {
+        if (inside(i, j, k) == 0) return;
+        const int c[3] = {x0 + i - ng, j - ng, z0 + k - ng};
+        for (int d = 0; d < 3; ++d) {
+          b.lo[d] = c[d] < b.lo[d] ? c[d] : b.lo[d];
+          b.hi[d] = c[d] > b.hi[d] ? c[d] : b.hi[d];
+        }
+      },
+      BoxUnion(box));
+  int ext[6] = {-box.lo[0], -box.lo[1], -box.lo[2], box.hi[0], box.hi[1], box.hi[2]};
+  MPI_Allreduce(MPI_IN_PLACE, ext, 6, MPI_INT, MPI_MAX, comm);
+  const Range3 none{in.ib, in.ib, in.jb, in.jb, in.kb, in.kb};
+  if (-ext[0] > ext[3]) {  // no cell maps inside
+    work_ = none;
+    return;
+  }
+  // grown, in global half-open intervals; x and z are periodic, and a box
+  // that would cross their seam takes the whole extent (the box of a
+  // particle on the seam spans it anyway: its cells lie at both ends)
+  const int n[3] = {g.nx, g.ny, g.nz};
+  int lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = -ext[d] - work_margin;
+    hi[d] = ext[3 + d] + 1 + work_margin;
+    if (d != 1 && (lo[d] < 0 || hi[d] > n[d])) lo[d] = 0, hi[d] = n[d];
+  }
+  const Range3 local{lo[0] - x0 + ng, hi[0] - x0 + ng, lo[1] + ng, hi[1] + ng, lo[2] - z0 + ng, hi[2] - z0 + ng};
+  work_ = grown(local, 0, in);
+  if (work_.empty()) work_ = none;
 }
 
 void ReferenceMap::seed(const Grid& g, Halo& halo, const FaceFluxes& scratch) {
@@ -121,6 +172,7 @@ void ReferenceMap::seed(const Grid& g, Halo& halo, const FaceFluxes& scratch) {
         x2(i, j, k) = gg.zc(k);
       });
   for (int m = 0; m < 3; ++m) Kokkos::deep_copy(before_[m], 0.0);
+  work_ = g.interior();  // every cell holds the far value after this refit, or a band or inside one
   fill_ghosts(g, halo);
   mark_inside(xi_, c_, r_, inside_);
   refit_band(g, halo, scratch);
@@ -130,11 +182,13 @@ void ReferenceMap::advance_stage(const Grid& g, const FlowState& flow, const Fac
                                  Real zdt, Halo& halo) {
   // u . grad xi = div(u xi) for the projected (discretely divergence-free)
   // velocity: the transport's flux form with WENO5 face values
-  for (int m = 0; m < 3; ++m) phi_transport_rhs(g, flow, xi_[m], now_[m], flux, g.interior(), PhiScheme{});
+  const Range3 work = work_;
+  if (!work.empty())  // else no cell of this rank is near the particle this step
+    for (int m = 0; m < 3; ++m) phi_transport_rhs(g, flow, xi_[m], now_[m], flux, work, PhiScheme{});
   for (int m = 0; m < 3; ++m) {
     const Field3 q = xi_[m], a = now_[m], b = before_[m];
     par_for(
-        "refmap_rk3_update", g.interior(),
+        "refmap_rk3_update", work,
         KOKKOS_LAMBDA(int i, int j, int k) { q(i, j, k) += gdt * a(i, j, k) + zdt * b(i, j, k); });
     std::swap(now_[m], before_[m]);
   }
@@ -155,9 +209,9 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
   // interface moves less than a cell in one): a cell at the band's edge can
   // take a value mixed with the far value's that happens to map inside
   mark_inside(xi_, c_, r_, valid);
-  mark_near(inside, 0.5, 1, g.interior(), scratch.x, scratch.y, next);
+  mark_near(inside, 0.5, 1, work_, scratch.x, scratch.y, next);
   par_for(
-      "refmap_inside_kept", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      "refmap_inside_kept", work_, KOKKOS_LAMBDA(int i, int j, int k) {
         const Real v = valid(i, j, k) != 0 && next(i, j, k) != 0 ? Real(1) : Real(0);
         valid(i, j, k) = v;
         inside(i, j, k) = v;
@@ -167,10 +221,10 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
   const GradientPrior prior = prior_;
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
   for (int layer = 1; layer <= band_reach; ++layer) {
-    mark_near(valid, 0.5, 1, g.interior(), scratch.x, scratch.y, next);
+    mark_near(valid, 0.5, 1, work_, scratch.x, scratch.y, next);
     // a layer's cell reads only valid cells, which this pass does not write
     par_for(
-        "refmap_band", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        "refmap_band", work_, KOKKOS_LAMBDA(int i, int j, int k) {
           if (valid(i, j, k) != 0 || next(i, j, k) == 0) return;
           AffineFit fit;
           Real mean[3] = {0, 0, 0}, wsum = 0;
@@ -193,7 +247,7 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
           x0(i, j, k) = out[0], x1(i, j, k) = out[1], x2(i, j, k) = out[2];
         });
     par_for(
-        "refmap_band_valid", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+        "refmap_band_valid", work_, KOKKOS_LAMBDA(int i, int j, int k) {
           if (next(i, j, k) != 0) valid(i, j, k) = 1;
         });
     fill_ghosts(g, halo);
@@ -201,7 +255,7 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
   }
   const Real far0 = c_[0] + far_offset * r_, far1 = c_[1] + far_offset * r_, far2 = c_[2] + far_offset * r_;
   par_for(
-      "refmap_far", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      "refmap_far", work_, KOKKOS_LAMBDA(int i, int j, int k) {
         if (valid(i, j, k) == 0) x0(i, j, k) = far0, x1(i, j, k) = far1, x2(i, j, k) = far2;
       });
   fill_ghosts(g, halo);
@@ -214,20 +268,20 @@ Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& h
   // s = 1 - 1 / det J in the inside cells: their sum, count and largest det B error
   Real sums[2] = {0, 0}, worst = 0;
   par_for(
-      "refmap_volume_source", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      "refmap_volume_source", work_, KOKKOS_LAMBDA(int i, int j, int k) {
         Real J[3][3], F[3][3];
         grad(i, j, k, J);
         const Real det = invert_map_gradient(J, F);
         s(i, j, k) = inside(i, j, k) != 0 && det > 0 ? 1 - 1 / det : Real(0);
       });
   par_reduce(
-      "refmap_volume_source_sum", g.interior(),
+      "refmap_volume_source_sum", work_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += s(i, j, k); }, Kokkos::Sum<Real>(sums[0]));
   par_reduce(
-      "refmap_volume_inside_count", g.interior(),
+      "refmap_volume_inside_count", work_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += inside(i, j, k); }, Kokkos::Sum<Real>(sums[1]));
   par_reduce(
-      "refmap_volume_worst", g.interior(),
+      "refmap_volume_worst", work_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
         if (inside(i, j, k) == 0) return;
         const Real r = 1 / (1 - s(i, j, k));  // det J
@@ -256,7 +310,7 @@ Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& h
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2], d0 = now_[0], d1 = now_[1], d2 = now_[2];
   const Real hx = 1 / (2 * g.dx), hy = 1 / (2 * g.dy), hz = 1 / (2 * g.dz);
   par_for(
-      "refmap_volume_shift", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      "refmap_volume_shift", work_, KOKKOS_LAMBDA(int i, int j, int k) {
         Real J[3][3];
         grad(i, j, k, J);
         const Real d[3] = {(psi(i + 1, j, k) - psi(i - 1, j, k)) * hx,
@@ -268,7 +322,7 @@ Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& h
         d2(i, j, k) = in ? J[2][0] * d[0] + J[2][1] * d[1] + J[2][2] * d[2] : Real(0);
       });
   par_for(
-      "refmap_volume_apply", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      "refmap_volume_apply", work_, KOKKOS_LAMBDA(int i, int j, int k) {
         x0(i, j, k) -= d0(i, j, k);
         x1(i, j, k) -= d1(i, j, k);
         x2(i, j, k) -= d2(i, j, k);
@@ -281,7 +335,7 @@ Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& h
 GradientPrior ReferenceMap::mean_gradient(const Grid& g,
                                           const std::function<void(Real*, int)>& allreduce_sum) const {
   const Field3 inside = inside_;
-  const Range3 cells = g.interior();
+  const Range3 cells = work_;
   Real sums[12];  // 9 sums of differences, then the pairs per axis
   for (int b = 0; b < 3; ++b) {
     const int di = b == 0, dj = b == 1, dk = b == 2;
@@ -312,14 +366,14 @@ Real ReferenceMap::solid_from_map(const Grid& g, const SolidFields& f, const Fac
   const Field3 near = scratch.x, inside = inside_;
   // the band's refit took it from the same inside cells (the refit writes only outside ones)
   const GradientPrior prior = prior_;
-  mark_near(inside_, 0.5, solid_reach, g.interior(), scratch.x, scratch.y, near);
+  mark_near(inside_, 0.5, solid_reach, work_, scratch.x, scratch.y, near);
   const MapGradient grad{xi_[0], xi_[1], xi_[2], 1 / (2 * g.dx), 1 / (2 * g.dy), 1 / (2 * g.dz)};
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
   const Real c0 = c_[0], c1 = c_[1], c2 = c_[2], r = r_;
   const Real h0 = g.dx, h1 = g.dy, h2 = g.dz;
   const SolidViews q(f);
   par_for(
-      "refmap_phi", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      "refmap_phi", work_, KOKKOS_LAMBDA(int i, int j, int k) {
         if (near(i, j, k) == 0) {
           q.phi(i, j, k) = 0;
           q.b0(i, j, k) = q.b3(i, j, k) = q.b5(i, j, k) = 1;
@@ -341,18 +395,18 @@ Real ReferenceMap::solid_from_map(const Grid& g, const SolidFields& f, const Fac
   // cells in proportion to phi (1 - phi), as phi_bounded_redistribution
   Real sums[2] = {0, 0};
   par_reduce(
-      "refmap_volume", g.interior(),
+      "refmap_volume", work_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += kept_phi(q.phi(i, j, k)); },
       Kokkos::Sum<Real>(sums[0]));
   par_reduce(
-      "refmap_interface_weight", g.interior(),
+      "refmap_interface_weight", work_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += interface_weight(q.phi(i, j, k), phi_zero_cut); },
       Kokkos::Sum<Real>(sums[1]));
   allreduce_sum(sums, 2);
   const Real e = volume_ - sums[0];
   const Real a = redistribution_coefficient(e, sums[1]);
   par_for(
-      "refmap_phi_volume", g.interior(), KOKKOS_LAMBDA(int i, int j, int k) {
+      "refmap_phi_volume", work_, KOKKOS_LAMBDA(int i, int j, int k) {
         q.phi(i, j, k) = redistributed_phi(q.phi(i, j, k), a, phi_zero_cut);
       });
   return volume_ > 0 ? e / volume_ : Real(0);

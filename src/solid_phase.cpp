@@ -283,6 +283,7 @@ void SolidPhase::begin_step() {
     force_region_ = grown_range(support, solid_region_margin + 1, g_.interior());
   }
   colours_.begin_step(g_, region_);
+  if (map_.on()) map_.begin_step(g_, halo_.comm(), !track_region_);
   // the force arrays must hold 0 wherever the force kernel no longer writes
   // (the force there is 0: phi's support lies inside the new region)
   zero_outside(force_now_, old_force, force_region_);
