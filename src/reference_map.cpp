@@ -157,7 +157,8 @@ void ReferenceMap::begin_step(const Grid& g, MPI_Comm comm, bool whole) {
     hi[d] = ext[3 + d] + 1 + work_margin;
     if (d != 1 && (lo[d] < 0 || hi[d] > n[d])) lo[d] = 0, hi[d] = n[d];
   }
-  const Range3 local{lo[0] - x0 + ng, hi[0] - x0 + ng, lo[1] + ng, hi[1] + ng, lo[2] - z0 + ng, hi[2] - z0 + ng};
+  const Range3 local{lo[0] - x0 + ng, hi[0] - x0 + ng, lo[1] + ng,
+                     hi[1] + ng,      lo[2] - z0 + ng, hi[2] - z0 + ng};
   work_ = grown(local, 0, in);
   if (work_.empty()) work_ = none;
 }
@@ -275,8 +276,8 @@ Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& h
         s(i, j, k) = inside(i, j, k) != 0 && det > 0 ? 1 - 1 / det : Real(0);
       });
   par_reduce(
-      "refmap_volume_source_sum", work_,
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += s(i, j, k); }, Kokkos::Sum<Real>(sums[0]));
+      "refmap_volume_source_sum", work_, KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += s(i, j, k); },
+      Kokkos::Sum<Real>(sums[0]));
   par_reduce(
       "refmap_volume_inside_count", work_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += inside(i, j, k); }, Kokkos::Sum<Real>(sums[1]));
@@ -395,8 +396,7 @@ Real ReferenceMap::solid_from_map(const Grid& g, const SolidFields& f, const Fac
   // cells in proportion to phi (1 - phi), as phi_bounded_redistribution
   Real sums[2] = {0, 0};
   par_reduce(
-      "refmap_volume", work_,
-      KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += kept_phi(q.phi(i, j, k)); },
+      "refmap_volume", work_, KOKKOS_LAMBDA(int i, int j, int k, Real& s) { s += kept_phi(q.phi(i, j, k)); },
       Kokkos::Sum<Real>(sums[0]));
   par_reduce(
       "refmap_interface_weight", work_,

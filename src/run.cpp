@@ -8,10 +8,12 @@
 #include <ostream>
 #include <sstream>
 
+#include "csv_series.hpp"
 #include "output.hpp"
 #include "particle_seeding.hpp"
 #include "run_averages.hpp"
 #include "run_guard.hpp"
+#include "solid_checks.hpp"
 #include "version.hpp"
 
 namespace softflow {
@@ -26,8 +28,10 @@ std::string hms(double s) {
   return b;
 }
 
+// measured: the end-of-run objects read back from the series ("averages",
+// "solid_checks"), copied into the summary as they are
 void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r, const std::string& dir,
-                   const nlohmann::json& averages, size_t particle_count) {
+                   const nlohmann::json& measured, size_t particle_count) {
   if (!s.decomposition().is_root()) return;
   const Config& c = s.config();
   nlohmann::json j;
@@ -55,7 +59,7 @@ void write_summary(const FlowSolver& s, const FlowScalars& f, const RunResult& r
                 {"mu_eff", f.mu_eff},
                 {"n1", f.n1},
                 {"n2", f.n2}};
-  j["averages"] = averages;
+  for (const auto& [key, value] : measured.items()) j[key] = value;
   if (s.solid()) {
     j["case"]["particles"] = {
         {"count", particle_count},
@@ -104,8 +108,10 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   auto particles = [&]() -> const std::vector<ParticleShape>& {
     return tracker ? tracker->shapes() : no_particles;
   };
+  SolidWatch watch;
   auto series_rows = [&](const FlowScalars& f, Real dt) {
     out.series_row(f, dt);
+    if (root && solver.solid()) watch.row(f, solver.step, solver.time * cfg.shear_rate(), log);
     if (tracker) {
       tracker->update();
       out.particles_row(tracker->shapes());
@@ -245,7 +251,10 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   check_finite();
   out.snapshot();
   checkpoint();
-  write_summary(solver, f, res, oc.dir, run_averages(solver, out), particles().size());
+  nlohmann::json measured;
+  measured["averages"] = run_averages(solver, out);
+  if (root && solver.solid()) measured["solid_checks"] = solid_checks(read_columns(oc.dir + "/series.csv"));
+  write_summary(solver, f, res, oc.dir, measured, particles().size());
   if (root) {
     log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
         << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff << ", output in "

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "hdf5_io.hpp"
@@ -64,6 +65,14 @@ TEST_P(RestartParticles, SuspensionRestartIsBitIdentical) {
       EXPECT_EQ(read_text(a + f), read_text(b + f)) << f;
       EXPECT_FALSE(read_text(a + f).empty()) << f;
     }
+    // the end-of-run objects read the whole series, the restarted run's history
+    // included (src/solid_checks.hpp, src/run_averages.hpp)
+    const nlohmann::json ja = nlohmann::json::parse(read_text(a + "/summary.json")),
+                         jb = nlohmann::json::parse(read_text(b + "/summary.json"));
+    ASSERT_TRUE(ja.contains("solid_checks"));
+    EXPECT_EQ(ja["solid_checks"], jb["solid_checks"]);
+    EXPECT_EQ(ja["averages"], jb["averages"]);
+    EXPECT_TRUE(ja["solid_checks"]["solid_volume_drift"]["pass"].get<bool>());
   }
 }
 

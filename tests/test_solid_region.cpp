@@ -15,10 +15,11 @@ namespace {
 // One off-centre sphere in a sheared box: it translates with the flow and
 // deforms, so its region moves and grows; on 2 or 4 ranks it spans ranks.
 Config one_sphere(const std::string& scheme, double k, const std::vector<std::string>& extra = {}) {
-  std::vector<std::string> o = {"particles.radius=0.4", "particles.count=1", "particles.placement=\"random\"",
-                                "particles.seed=3", "particles.shear_modulus=2.0",
-                                "particles.viscosity_ratio=" + std::to_string(k), "initial.type=\"couette\"",
-                                "time.viscous=\"" + scheme + "\""};
+  std::vector<std::string> o = {
+      "particles.radius=0.4",           "particles.count=1",
+      "particles.placement=\"random\"", "particles.seed=3",
+      "particles.shear_modulus=2.0",    "particles.viscosity_ratio=" + std::to_string(k),
+      "initial.type=\"couette\"",       "time.viscous=\"" + scheme + "\""};
   o.insert(o.end(), extra.begin(), extra.end());
   return couette_case(64, 16, 64, o);
 }
@@ -32,7 +33,8 @@ double worst_difference(FlowSolver& a, FlowSolver& b) {
     worst = std::max(worst, max_diff(a.solid()->fields().q[m], b.solid()->fields().q[m], r));
   const ReferenceMap& ma = a.solid()->reference_map();
   if (ma.on())
-    for (int m = 0; m < 3; ++m) worst = std::max(worst, max_diff(ma.xi(m), b.solid()->reference_map().xi(m), r));
+    for (int m = 0; m < 3; ++m)
+      worst = std::max(worst, max_diff(ma.xi(m), b.solid()->reference_map().xi(m), r));
   return global_max(worst);
 }
 
@@ -85,11 +87,12 @@ TEST_P(SolidRegion, SameAnswerAsTheWholeBox) {
 // particle never reaches a wall: one_sphere's sphere starts a cell from
 // one, and its map breaks there with or without the box.)
 TEST(SolidRegion, ReferenceMapInItsWorkBoxSameAnswerAsTheWholeBox) {
-  Config c = couette_case(48, 24, 48,
-                          {"grid.lx=12.0", "grid.ly=6.0", "grid.lz=12.0", "walls.velocity=3.0", "particles.radius=1.0",
-                           "particles.count=1", "particles.placement=\"random\"", "particles.seed=3",
-                           "particles.shear_modulus=2.0", "initial.type=\"couette\"", "time.viscous=\"implicit\"",
-                           "particles.solid_model=\"reference_map\"", "particles.map_volume_correction=true"});
+  Config c = couette_case(
+      48, 24, 48,
+      {"grid.lx=12.0", "grid.ly=6.0", "grid.lz=12.0", "walls.velocity=3.0", "particles.radius=1.0",
+       "particles.count=1", "particles.placement=\"random\"", "particles.seed=3",
+       "particles.shear_modulus=2.0", "initial.type=\"couette\"", "time.viscous=\"implicit\"",
+       "particles.solid_model=\"reference_map\"", "particles.map_volume_correction=true"});
   expect_region_matches_whole_box(c, "reference map, K = 1", false);
   FlowSolver s(c, MPI_COMM_WORLD);
   s.initialize();
