@@ -390,6 +390,14 @@ Config parse_config(const std::string& text, const std::string& name,
       if (p.map_volume_correction && p.solid_model != "reference_map")
         throw InputError(
             "'particles.map_volume_correction' needs 'particles.solid_model = \"reference_map\"'");
+      if (r.read("map_correction_passes", p.map_correction_passes, false)) {
+        if (!p.map_volume_correction)
+          throw InputError(
+              "'particles.map_correction_passes' needs 'particles.map_volume_correction = true'");
+        if (p.map_correction_passes < 1 || p.map_correction_passes > 8)
+          throw InputError("'particles.map_correction_passes' must be in [1, 8] (got " +
+                           std::to_string(p.map_correction_passes) + ")");
+      }
       if (r.read_numbers("initial_b", p.initial_b, 6, false)) {
         if (p.shape != "spheres")
           throw InputError("'particles.initial_b' needs 'particles.shape = \"spheres\"'");

@@ -51,6 +51,7 @@ struct ParticleConfig {
   // sphere's phi and B from its reference map xi (src/reference_map.hpp)
   std::string solid_model = "phi_b";
   bool map_volume_correction = false;  // "reference_map": the map made volume-preserving once a step
+  int map_correction_passes = 2;       // the correction's passes a step (each one Poisson solve)
   std::string phi_scheme = "mthinc";   // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
   Real thinc_beta = 3.5;               // (M)THINC steepness: the interface spans about 2 / beta cells
   bool b_extension = true;  // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)

@@ -113,7 +113,7 @@ class SolidPhase {
   SolidFields q_, rhs_now_, rhs_before_;
   ColourFields colours_;  // empty: phi is transported itself
   PoissonSolver* poisson_ = nullptr;
-  bool map_volume_correction_ = false;
+  int map_correction_passes_ = 0;  // the map's volume correction passes a step (0: off)
   ReferenceMap map_;       // off: phi and B are transported themselves
   FaceFluxes flux_;        // the transport's face-flux scratch
   LiveCells b_live_;       // with B's extension: where B's right-hand side is needed (mark_near with reach 1)
