@@ -9,16 +9,19 @@
 namespace softflow {
 
 namespace {
-constexpr int band_reach =
-    3;  // the band's cells lie within 3 of a cell mapping inside: a WENO5 stencil's reach
+constexpr int fit_reach = 3;  // a band fit reads the valid cells within 3
+// the band's layers beyond the cells mapping inside: 4, so that the WENO5
+// stencils of the first layer's faces (3 cells upwind) read band values, not
+// the far value; the soft edge keeps part of the first layer's advected value
+constexpr int band_layers = 4;
 constexpr int solid_reach =
     2;  // cells that can hold solid: within 2 (their central differences stay in the band)
 // a step's work box around the cells mapping inside at its start: the inside
-// set grows by at most one cell a refit (refmap_inside_kept; four refits a
-// step with the volume correction), the band reaches 3 beyond it, and the
-// cells valid at the step's start (within 3) must be reset to the far value
-// if they leave the band; 4 + 3 = 7, and one to spare
-constexpr int work_margin = 2 * band_reach + 2;
+// set grows by at most one cell a refit (refmap_inside_kept; one refit a
+// stage and one a correction pass), the band reaches band_layers beyond it,
+// and the cells valid at the step's start must be reset to the far value if
+// they leave the band; one cell to spare
+int work_margin(int correction_passes) { return 3 + correction_passes + band_layers + 1; }
 constexpr Real far_offset = 10;   // xi beyond the band: c + 10 r in every component, far outside the sphere
 constexpr int share_samples = 4;  // sub-cells per direction for a cell's share of the sphere
 // the soft edge's width (soft_edge_weight), in cells: a leaving cell keeps
@@ -55,7 +58,7 @@ KOKKOS_INLINE_FUNCTION bool fitted_gradient(const Field3& inside, const Field3& 
                                             int j, int k, Real J[3][3]) {
   AffineFit fit;
   Real wsum = 0;
-  constexpr int R = band_reach;
+  constexpr int R = fit_reach;
   for (int c = -R; c <= R; ++c)
     for (int b = -R; b <= R; ++b)
       for (int a = -R; a <= R; ++a) {
@@ -89,7 +92,8 @@ void mark_inside(const Field3* xi, const Real* c, Real r, const Field3& out) {
 }
 }  // namespace
 
-ReferenceMap::ReferenceMap(const Grid& g, const Real c[3], Real r) : r_(r) {
+ReferenceMap::ReferenceMap(const Grid& g, const Real c[3], Real r, int correction_passes)
+    : correction_passes_(correction_passes), r_(r) {
   const char* names[3] = {"xi_x", "xi_y", "xi_z"};
   for (int m = 0; m < 3; ++m) {
     c_[m] = c[m];
@@ -155,11 +159,11 @@ void ReferenceMap::begin_step(const Grid& g, MPI_Comm comm, bool whole) {
   // grown, in global half-open intervals; x and z are periodic, and a box
   // that would cross their seam takes the whole extent (the box of a
   // particle on the seam spans it anyway: its cells lie at both ends)
-  const int n[3] = {g.nx, g.ny, g.nz};
+  const int n[3] = {g.nx, g.ny, g.nz}, margin = work_margin(correction_passes_);
   int lo[3], hi[3];
   for (int d = 0; d < 3; ++d) {
-    lo[d] = -ext[d] - work_margin;
-    hi[d] = ext[3 + d] + 1 + work_margin;
+    lo[d] = -ext[d] - margin;
+    hi[d] = ext[3 + d] + 1 + margin;
     if (d != 1 && (lo[d] < 0 || hi[d] > n[d])) lo[d] = 0, hi[d] = n[d];
   }
   const Range3 local{lo[0] - x0 + ng, hi[0] - x0 + ng, lo[1] + ng,
@@ -227,7 +231,8 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
   const GradientPrior prior = prior_;
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
   const Real c0 = c_[0], c1 = c_[1], c2 = c_[2], r = r_, edge = soft_edge_cells * g.dx;
-  for (int layer = 1; layer <= band_reach; ++layer) {
+  for (int layer = 1; layer <= band_layers; ++layer) {
+    const bool first = layer == 1;
     mark_near(valid, 0.5, 1, work_, scratch.x, scratch.y, next);
     // a layer's cell reads only valid cells, which this pass does not write
     par_for(
@@ -235,7 +240,7 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
           if (valid(i, j, k) != 0 || next(i, j, k) == 0) return;
           AffineFit fit;
           Real mean[3] = {0, 0, 0}, wsum = 0;
-          constexpr int R = band_reach;
+          constexpr int R = fit_reach;
           for (int c = -R; c <= R; ++c)
             for (int b = -R; b <= R; ++b)
               for (int a = -R; a <= R; ++a) {
@@ -253,7 +258,7 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
             for (int m = 0; m < 3; ++m) out[m] = mean[m] / wsum;  // too few cells to span 3-D
           const Real own[3] = {x0(i, j, k), x1(i, j, k), x2(i, j, k)};
           const Real q[3] = {own[0] - c0, own[1] - c1, own[2] - c2};
-          const Real kept = soft_edge_weight(q, r, edge);
+          const Real kept = first ? soft_edge_weight(q, r, edge) : Real(0);
           for (int m = 0; m < 3; ++m) out[m] += kept * (own[m] - out[m]);
           x0(i, j, k) = out[0], x1(i, j, k) = out[1], x2(i, j, k) = out[2];
         });

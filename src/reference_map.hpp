@@ -5,9 +5,12 @@
 //   1. advance: xi's WENO5 advection and its RK3 update (advance_stage);
 //   2. band: where a cell's centre maps outside the reference sphere, xi is
 //      replaced by the affine least-squares continuation of the cells that
-//      map inside (within 3 cells; farther out, a far value), so the map
+//      map inside (4 layers of cells, each fitted from the valid cells within
+//      3; farther out, a far value), so the map
 //      stays smooth across the interface and the fluid's shear never
-//      stretches it (refit_band);
+//      stretches it; a cell whose own value maps within a cell of the
+//      sphere keeps part of it (the soft edge, soft_edge_weight), so that a
+//      cell leaving the inside set changes gradually (refit_band);
 //   3. phi: each cell's share of the reference sphere's image, xi linear
 //      across the cell; the sphere's volume kept to round-off by moving the
 //      sum's error into the interface cells as phi's bounded redistribution
@@ -31,8 +34,9 @@ namespace softflow {
 class ReferenceMap {
  public:
   ReferenceMap() = default;  // off
-  // the sphere of radius r about c is the reference configuration
-  ReferenceMap(const Grid& g, const Real c[3], Real r);
+  // the sphere of radius r about c is the reference configuration;
+  // correction_passes: correct_volume's calls a step (the work box's margin)
+  ReferenceMap(const Grid& g, const Real c[3], Real r, int correction_passes);
   bool on() const { return xi_[0].data() != nullptr; }
   const Field3& xi(int m) const { return xi_[m]; }
   const Field3& inside() const { return inside_; }
@@ -54,11 +58,12 @@ class ReferenceMap {
   // steps 1 and 2 (flux: the transport's face-flux scratch)
   void advance_stage(const Grid& g, const FlowState& flow, const FaceFluxes& flux, Real gdt, Real zdt,
                      Halo& halo);
-  // step 2b (particles.map_volume_correction), after a step's last stage: the
-  // map made volume-preserving to first order by a potential displacement
-  // d = grad psi of its material, L psi = 1 - 1 / det(grad xi) in the cells
-  // mapping inside (their sum sunk evenly in the fluid), xi <- xi - (grad
-  // xi) d, then the band refitted. An incompressible flow has no force that
+  // step 2b (particles.map_volume_correction), after a step's last stage, in
+  // particles.map_correction_passes passes: the map made volume-preserving
+  // to first order by a potential displacement d = grad psi of its material,
+  // L psi = 1 - 1 / det(grad xi) in the cells mapping inside (their sum sunk
+  // evenly in the fluid), xi <- xi - (grad xi) d in every cell, then the
+  // band refitted. An incompressible flow has no force that
   // sees det(grad xi) (an isotropic stress is a pressure), so nothing else
   // removes the map's volume error. Returns max |det B - 1| over the inside
   // cells before the correction (det B = det(grad xi)^-2)
@@ -83,6 +88,7 @@ class ReferenceMap {
   Field3 inside_;          // 1 where a cell's centre maps inside the sphere (after the last band refit)
   GradientPrior prior_{};  // the last band refit's prior: solid_from_map's fits use the same
   Range3 work_{};          // this step's cells (begin_step); outside them xi holds the far value
+  int correction_passes_ = 0;
   Real c_[3] = {0, 0, 0}, r_ = 1;
   Real volume_ = 0;
 };

@@ -40,8 +40,8 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
     // sphere is the case's (centre, or drawn from its seed), as seed() places it
     const std::vector<Sphere> s = seed_spheres(cfg);
     const Real c[3] = {Real(s[0].x), Real(s[0].y), Real(s[0].z)};
-    map_ = ReferenceMap(g, c, cfg.particles.radius);
     map_correction_passes_ = cfg.particles.map_volume_correction ? cfg.particles.map_correction_passes : 0;
+    map_ = ReferenceMap(g, c, cfg.particles.radius, map_correction_passes_);
   }
   extend_b_ = cfg.particles.b_extension && !map_.on();
   extend_every_stage_ = cfg.particles.b_extension_stages == "all";

@@ -118,6 +118,18 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
             "");
   expect_error(error_of(good, with("particles.map_volume_correction=true")),
                "'particles.map_volume_correction' needs 'particles.solid_model = \"reference_map\"'");
+  auto map_with = [&](const std::string& key, bool on) {
+    std::vector<std::string> o = with("particles.solid_model=\"reference_map\"", key);
+    if (on) o.push_back("particles.map_volume_correction=true");
+    return o;
+  };
+  EXPECT_EQ(error_of(good, map_with("particles.map_correction_passes=3", true)), "");
+  expect_error(error_of(good, map_with("particles.map_correction_passes=3", false)),
+               "'particles.map_correction_passes' needs 'particles.map_volume_correction = true'");
+  expect_error(error_of(good, map_with("particles.map_correction_passes=0", true)),
+               "'particles.map_correction_passes' must be in [1, 8] (got 0)");
+  expect_error(error_of(good, map_with("particles.map_correction_passes=9", true)),
+               "'particles.map_correction_passes' must be in [1, 8] (got 9)");
   // the map is one smooth field: one sphere, undeformed, no colours
   const std::string one_sphere = "is written for one undeformed sphere";
   expect_error(error_of(good, {"particles.radius=0.2", "particles.count=3", "particles.shear_modulus=1.0",

@@ -59,6 +59,26 @@ TEST(ReferenceMap, ABrokenMapGivesTheIdentity) {
   EXPECT_EQ(B[3], 1);
 }
 
+// the band's soft edge: a cell keeps all of its own value while it maps into
+// the sphere, none beyond width of it, and the share falls linearly between
+// (so a cell leaving the sphere hands its value to the fit continuously)
+TEST(ReferenceMap, SoftEdgeWeightFallsFromOneToZeroAcrossItsWidth) {
+  const Real r = 2, width = 0.5;
+  const Real dir[3] = {0.48, -0.6, 0.64};  // a unit vector
+  const auto at = [&](Real rho) {
+    const Real q[3] = {rho * dir[0], rho * dir[1], rho * dir[2]};
+    return soft_edge_weight(q, r, width);
+  };
+  EXPECT_EQ(at(0), 1);
+  EXPECT_EQ(at(1.99), 1);
+  EXPECT_NEAR(at(2.0), 1, 1e-14);
+  EXPECT_NEAR(at(2.125), 0.75, 1e-14);
+  EXPECT_NEAR(at(2.25), 0.5, 1e-14);
+  EXPECT_NEAR(at(2.5), 0, 1e-14);
+  EXPECT_EQ(at(2.51), 0);
+  EXPECT_EQ(at(30), 0);  // the far value
+}
+
 TEST(ReferenceMap, CellSharesOfTheSphereSumToItsVolume) {
   // the undeformed map xi = x on a grid of cells of side h: the shares of
   // the unit sphere sum to 4 pi / 3 within the ramp's second-order error,
