@@ -7,11 +7,13 @@
 # that all see the same machine load:
 #   phi_b   the default model (this build);
 #   map     the map (this build: its passes in the work box around the
-#           particle, ReferenceMap::begin_step, round 36);
+#           particle, ReferenceMap::begin_step, round 36; two correction
+#           passes a step, the default since round 37);
+#   map1    the same with one correction pass (particles.map_correction_passes = 1);
 #   before  the map at commit BEFORE (default d45a7ef, the end of round 35:
 #           every pass over the whole box), built once into build-map-before/.
 #   perf/map_cost.sh            # -> perf/results/map_cost/{variant}_{round}.json, map_cost.md
-# Environment: ROUNDS (default 3), VARIANTS (default "phi_b map before"),
+# Environment: ROUNDS (default 3), VARIANTS (default "phi_b map before"), OUT,
 # OMP_NUM_THREADS (default all cores), BIN, BEFORE.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,7 +21,7 @@ bin=${BIN:-build/perf/softflow-perf}
 rounds=${ROUNDS:-3}
 variants=${VARIANTS:-phi_b map before}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(nproc)}
-out=perf/results/map_cost
+out=${OUT:-perf/results/map_cost}
 mkdir -p "$out"
 before_bin=build-map-before/src/build/perf/softflow-perf
 if [[ " $variants " == *" before "* ]] && [ ! -x "$before_bin" ]; then
@@ -33,6 +35,7 @@ for r in $(seq 1 "$rounds"); do
     extra=()
     run_bin=$bin
     [ "$v" != phi_b ] && extra=("${map[@]}")
+    [ "$v" = map1 ] && extra+=(--set particles.map_correction_passes=1)
     [ "$v" = before ] && run_bin=$before_bin
     scripts/toolchain.sh run "$run_bin" cases/phi0016_ca02.toml --set grid.nx=64 --set grid.ny=40 --set grid.nz=64 \
       --set 'initial.type="couette"' --set 'particles.placement="centre"' \
@@ -45,9 +48,11 @@ import json, statistics, sys
 out, rounds, variants = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
 def run(v, r):
     return json.load(open(f"{out}/{v}_{r}.json"))
-names = {"phi_b": "phi/B (default)", "map": "map, work box", "before": "map, whole box (round 35)"}
+names = {"phi_b": "phi/B (default)", "map": "map, work box, two passes", "map1": "map, one pass",
+         "before": "map, whole box (round 35)"}
 steps = {v: [run(v, r)["step"]["seconds"]["median"] for r in range(1, rounds + 1)] for v in variants}
-pairs = [(a, b) for a, b in (("map", "before"), ("map", "phi_b"), ("before", "phi_b"))
+pairs = [(a, b) for a, b in (("map", "before"), ("map", "map1"), ("map", "phi_b"), ("map1", "phi_b"),
+                             ("before", "phi_b"))
          if a in variants and b in variants]
 lines = ["# Cost of the reference map (perf/map_cost.sh)", "",
          "One sphere at the centre of the reference box (cases/phi0016_ca02.toml, 64 x 40 x 64, 4 ppr, "
