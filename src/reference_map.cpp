@@ -324,8 +324,8 @@ Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& h
   apply_pressure_walls(g, psi);
   // xi(x - d) = xi - J d, d = grad psi (central): into now_ (free after the
   // stage's swap). Every cell moves, the band's too: a band cell at the soft
-  // edge keeps part of its value through the refit below (beyond the band xi
-  // is the constant far value, J = 0)
+  // edge keeps part of its value through the refit below (which resets the
+  // cells beyond the band to the far value)
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2], d0 = now_[0], d1 = now_[1], d2 = now_[2];
   const Real hx = 1 / (2 * g.dx), hy = 1 / (2 * g.dy), hz = 1 / (2 * g.dz);
   par_for(

@@ -5,12 +5,12 @@
 //   1. advance: xi's WENO5 advection and its RK3 update (advance_stage);
 //   2. band: where a cell's centre maps outside the reference sphere, xi is
 //      replaced by the affine least-squares continuation of the cells that
-//      map inside (4 layers of cells, each fitted from the valid cells within
-//      3; farther out, a far value), so the map
-//      stays smooth across the interface and the fluid's shear never
-//      stretches it; a cell whose own value maps within a cell of the
-//      sphere keeps part of it (the soft edge, soft_edge_weight), so that a
-//      cell leaving the inside set changes gradually (refit_band);
+//      map inside (4 layers of cells, each fitted from the valid cells
+//      within 3; farther out, a far value), so the map stays smooth across
+//      the interface and the fluid's shear never stretches it; a first-layer
+//      cell whose own value maps within a cell of the sphere keeps part of
+//      it (the soft edge, soft_edge_weight), so that a cell leaving the
+//      inside set changes gradually (refit_band);
 //   3. phi: each cell's share of the reference sphere's image, xi linear
 //      across the cell; the sphere's volume kept to round-off by moving the
 //      sum's error into the interface cells as phi's bounded redistribution
@@ -63,9 +63,9 @@ class ReferenceMap {
   // to first order by a potential displacement d = grad psi of its material,
   // L psi = 1 - 1 / det(grad xi) in the cells mapping inside (their sum sunk
   // evenly in the fluid), xi <- xi - (grad xi) d in every cell, then the
-  // band refitted. An incompressible flow has no force that
-  // sees det(grad xi) (an isotropic stress is a pressure), so nothing else
-  // removes the map's volume error. Returns max |det B - 1| over the inside
+  // band refitted. An incompressible flow has no force that sees det(grad
+  // xi) (an isotropic stress is a pressure), so nothing else removes the
+  // map's volume error. Returns max |det B - 1| over the inside
   // cells before the correction (det B = det(grad xi)^-2)
   Real correct_volume(const Grid& g, PoissonSolver& poisson, Halo& halo, const FaceFluxes& scratch);
   // steps 3 and 4 into q (interior cells); returns the volume error step 3
