@@ -32,7 +32,8 @@ KOKKOS_INLINE_FUNCTION Real invert_map_gradient(const Real J[3][3], Real F[3][3]
 }
 
 // B = F F^T with F = J^-1, six components (xx, xy, xz, yy, yz, zz); I where
-// the map is broken (det J <= 0), which the det B diagnostics then show
+// the map is broken (det J <= 0), so no stress; the det B diagnostics do not
+// see such a cell, series.csv's map_det_corrected does (as infinite)
 KOKKOS_INLINE_FUNCTION void b_from_map_gradient(const Real J[3][3], Real B[6]) {
   Real F[3][3];
   if (!(invert_map_gradient(J, F) > 0)) {

@@ -35,17 +35,27 @@ constexpr Real soft_edge_cells = 1;
 // they do not
 constexpr Real ridge = 0.05;
 
-// grad xi at a cell centre by central differences, J[a][b] = d xi_a / d x_b
-struct MapGradient {
-  Field3 x0, x1, x2;
+// the gradient of one field at a cell centre by central differences
+struct CentralGradient {
+  Field3 q;
   Real hx, hy, hz;  // 1 / (2 dx) ...
+  CentralGradient(const Field3& f, const Grid& g)
+      : q(f), hx(1 / (2 * g.dx)), hy(1 / (2 * g.dy)), hz(1 / (2 * g.dz)) {}
+  KOKKOS_INLINE_FUNCTION void operator()(int i, int j, int k, Real d[3]) const {
+    d[0] = (q(i + 1, j, k) - q(i - 1, j, k)) * hx;
+    d[1] = (q(i, j + 1, k) - q(i, j - 1, k)) * hy;
+    d[2] = (q(i, j, k + 1) - q(i, j, k - 1)) * hz;
+  }
+};
+
+// grad xi at a cell centre, J[a][b] = d xi_a / d x_b
+struct MapGradient {
+  CentralGradient x0, x1, x2;
+  MapGradient(const Field3* xi, const Grid& g) : x0(xi[0], g), x1(xi[1], g), x2(xi[2], g) {}
   KOKKOS_INLINE_FUNCTION void operator()(int i, int j, int k, Real J[3][3]) const {
-    for (int a = 0; a < 3; ++a) {
-      const Field3& q = a == 0 ? x0 : (a == 1 ? x1 : x2);
-      J[a][0] = (q(i + 1, j, k) - q(i - 1, j, k)) * hx;
-      J[a][1] = (q(i, j + 1, k) - q(i, j - 1, k)) * hy;
-      J[a][2] = (q(i, j, k + 1) - q(i, j, k - 1)) * hz;
-    }
+    x0(i, j, k, J[0]);
+    x1(i, j, k, J[1]);
+    x2(i, j, k, J[2]);
   }
 };
 
@@ -279,32 +289,32 @@ void ReferenceMap::refit_band(const Grid& g, Halo& halo, const FaceFluxes& scrat
 
 Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& halo,
                                   const FaceFluxes& scratch) {
-  const MapGradient grad{xi_[0], xi_[1], xi_[2], 1 / (2 * g.dx), 1 / (2 * g.dy), 1 / (2 * g.dz)};
+  const MapGradient grad(xi_, g);
   const Field3 inside = inside_, s = scratch.y, psi = scratch.x;
-  // s = 1 - 1 / det J in the inside cells: their sum, count and largest det B error
+  // s = 1 - 1 / det J in the inside cells, and their largest det B error
+  // (infinite where the map is broken, det J <= 0: no source there, since
+  // a potential displacement cannot unfold it); then their sum and count
   Real sums[2] = {0, 0}, worst = 0;
-  par_for(
-      "refmap_volume_source", work_, KOKKOS_LAMBDA(int i, int j, int k) {
+  par_reduce(
+      "refmap_volume_source", work_,
+      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
         Real J[3][3], F[3][3];
         grad(i, j, k, J);
         const Real det = invert_map_gradient(J, F);
-        s(i, j, k) = inside(i, j, k) != 0 && det > 0 ? 1 - 1 / det : Real(0);
-      });
+        const bool in = inside(i, j, k) != 0;
+        s(i, j, k) = in && det > 0 ? 1 - 1 / det : Real(0);
+        if (!in) return;
+        const Real e =
+            det > 0 ? Kokkos::fabs(1 / (det * det) - 1) : Kokkos::Experimental::infinity<Real>::value;
+        a = e > a ? e : a;
+      },
+      Kokkos::Max<Real>(worst));
   par_reduce(
       "refmap_volume_source_sum", work_, KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += s(i, j, k); },
       Kokkos::Sum<Real>(sums[0]));
   par_reduce(
       "refmap_volume_inside_count", work_,
       KOKKOS_LAMBDA(int i, int j, int k, Real& a) { a += inside(i, j, k); }, Kokkos::Sum<Real>(sums[1]));
-  par_reduce(
-      "refmap_volume_worst", work_,
-      KOKKOS_LAMBDA(int i, int j, int k, Real& a) {
-        if (inside(i, j, k) == 0) return;
-        const Real r = 1 / (1 - s(i, j, k));  // det J
-        const Real e = Kokkos::fabs(1 / (r * r) - 1);
-        a = e > a ? e : a;
-      },
-      Kokkos::Max<Real>(worst));
   MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, halo.comm());
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, halo.comm());
   const Real cells = Real(g.nx) * g.ny * g.nz;
@@ -327,14 +337,12 @@ Real ReferenceMap::correct_volume(const Grid& g, PoissonSolver& poisson, Halo& h
   // edge keeps part of its value through the refit below (which resets the
   // cells beyond the band to the far value)
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2], d0 = now_[0], d1 = now_[1], d2 = now_[2];
-  const Real hx = 1 / (2 * g.dx), hy = 1 / (2 * g.dy), hz = 1 / (2 * g.dz);
+  const CentralGradient grad_psi(psi, g);
   par_for(
       "refmap_volume_shift", work_, KOKKOS_LAMBDA(int i, int j, int k) {
-        Real J[3][3];
+        Real J[3][3], d[3];
         grad(i, j, k, J);
-        const Real d[3] = {(psi(i + 1, j, k) - psi(i - 1, j, k)) * hx,
-                           (psi(i, j + 1, k) - psi(i, j - 1, k)) * hy,
-                           (psi(i, j, k + 1) - psi(i, j, k - 1)) * hz};
+        grad_psi(i, j, k, d);
         d0(i, j, k) = J[0][0] * d[0] + J[0][1] * d[1] + J[0][2] * d[2];
         d1(i, j, k) = J[1][0] * d[0] + J[1][1] * d[1] + J[1][2] * d[2];
         d2(i, j, k) = J[2][0] * d[0] + J[2][1] * d[1] + J[2][2] * d[2];
@@ -385,7 +393,7 @@ Real ReferenceMap::solid_from_map(const Grid& g, const SolidFields& f, const Fac
   // the band's refit took it from the same inside cells (the refit writes only outside ones)
   const GradientPrior prior = prior_;
   mark_near(inside_, 0.5, solid_reach, work_, scratch.x, scratch.y, near);
-  const MapGradient grad{xi_[0], xi_[1], xi_[2], 1 / (2 * g.dx), 1 / (2 * g.dy), 1 / (2 * g.dz)};
+  const MapGradient grad(xi_, g);
   const Field3 x0 = xi_[0], x1 = xi_[1], x2 = xi_[2];
   const Real c0 = c_[0], c1 = c_[1], c2 = c_[2], r = r_;
   const Real h0 = g.dx, h1 = g.dy, h2 = g.dz;

@@ -35,8 +35,10 @@ class ReferenceMap {
  public:
   ReferenceMap() = default;  // off
   // the sphere of radius r about c is the reference configuration;
-  // correction_passes: correct_volume's calls a step (the work box's margin)
+  // correction_passes: correct_volume's calls a step (0: no correction; the
+  // work box's margin counts them)
   ReferenceMap(const Grid& g, const Real c[3], Real r, int correction_passes);
+  int correction_passes() const { return correction_passes_; }
   bool on() const { return xi_[0].data() != nullptr; }
   const Field3& xi(int m) const { return xi_[m]; }
   const Field3& inside() const { return inside_; }

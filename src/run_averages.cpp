@@ -44,12 +44,11 @@ std::vector<double> drop_initial(const Columns& c, const std::string& name) {
 
 }  // namespace
 
-nlohmann::json run_averages(const FlowSolver& s, Output& out) {
+nlohmann::json run_averages(const FlowSolver& s, Output& out, const Columns& series) {
   nlohmann::json j;
   if (!s.decomposition().is_root()) return j;
   const Config& c = s.config();
   const std::string dir = out.dir();
-  const Columns series = read_columns(dir + "/series.csv");
   if (!series.count("strain") || series.at("strain").size() < 2) return j;
   const Columns parts = s.solid() ? read_columns(dir + "/particles.csv") : Columns{};
   const bool has_parts = parts.count("taylor_mean") && parts.at("taylor_mean").size() > 1;

@@ -1,16 +1,21 @@
-// The end-of-run averages: read back the run's series (rank 0), find where
+// The end-of-run averages: from the run's series read back (rank 0), find where
 // the averages start (src/averaging.hpp), and give the summary's "averages"
 // object: every quantity with its mean, batch-means standard error and sample
 // count; the averaged profiles go to profiles.csv. Reading the files rather
 // than accumulating in memory makes a restarted run average over its whole
 // history.
 #pragma once
+#include <map>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "output.hpp"
 
 namespace softflow {
 
-nlohmann::json run_averages(const FlowSolver& s, Output& out);
+// series: series.csv's columns, read once by the caller (rank 0)
+nlohmann::json run_averages(const FlowSolver& s, Output& out,
+                            const std::map<std::string, std::vector<double>>& series);
 
 }  // namespace softflow

@@ -40,8 +40,8 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
     // sphere is the case's (centre, or drawn from its seed), as seed() places it
     const std::vector<Sphere> s = seed_spheres(cfg);
     const Real c[3] = {Real(s[0].x), Real(s[0].y), Real(s[0].z)};
-    map_correction_passes_ = cfg.particles.map_volume_correction ? cfg.particles.map_correction_passes : 0;
-    map_ = ReferenceMap(g, c, cfg.particles.radius, map_correction_passes_);
+    map_ = ReferenceMap(g, c, cfg.particles.radius,
+                        cfg.particles.map_volume_correction ? cfg.particles.map_correction_passes : 0);
   }
   extend_b_ = cfg.particles.b_extension && !map_.on();
   extend_every_stage_ = cfg.particles.b_extension_stages == "all";
@@ -311,7 +311,7 @@ void SolidPhase::advance_stage(const FlowState& flow, Real gdt, Real zdt, bool l
     // pass helps there (round 37, 4 ppr, Ca = 0.2, strain 0-7: det B before
     // the projection in [0.979, 1.029] with one pass, [0.985, 1.017] with two)
     if (last_stage)
-      for (int pass = 0; pass < map_correction_passes_; ++pass) {
+      for (int pass = 0; pass < map_.correction_passes(); ++pass) {
         const Real found = map_.correct_volume(g_, *poisson_, halo_, flux_);
         if (pass == 0) b_stats_.map_det_corrected = std::max(b_stats_.map_det_corrected, found);
       }

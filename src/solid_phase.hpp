@@ -113,9 +113,8 @@ class SolidPhase {
   SolidFields q_, rhs_now_, rhs_before_;
   ColourFields colours_;  // empty: phi is transported itself
   PoissonSolver* poisson_ = nullptr;
-  int map_correction_passes_ = 0;  // the map's volume correction passes a step (0: off)
-  ReferenceMap map_;               // off: phi and B are transported themselves
-  FaceFluxes flux_;                // the transport's face-flux scratch
+  ReferenceMap map_;       // off: phi and B are transported themselves
+  FaceFluxes flux_;        // the transport's face-flux scratch
   LiveCells b_live_;       // with B's extension: where B's right-hand side is needed (mark_near with reach 1)
   SolidFields core_logs_;  // with b_solid_phi > 1/2: the core's log B the inner band reads (log_core_b)
   MomentumRhs force_now_, force_before_;
