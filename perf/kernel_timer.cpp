@@ -12,8 +12,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Kokkos' callbacks are plain function pointers, so their state lives here;
-// the KernelTimer object owns it (only one may exist).
+// Kokkos' callbacks are plain function pointers with no user data, so their
+// state lives here, the one mutable global in the code; the KernelTimer
+// object owns it (only one may exist, and it is not thread-safe: Kokkos
+// calls the callbacks from the launching thread).
 struct State {
   bool active = false;
   TimerReport report;
@@ -24,17 +26,21 @@ State state;
 
 void fence() { Kokkos::fence("perf_timer"); }
 
+// the clock is read right after the fence at the start and the end, so the
+// bookkeeping (the name's string, the report's map) is not timed
 void begin_kernel(const char* name, uint32_t, uint64_t* id) {
   fence();
   *id = state.open_kernels.size();
-  state.open_kernels.emplace_back(name, Clock::now());
+  state.open_kernels.emplace_back(name, Clock::time_point{});
+  state.open_kernels.back().second = Clock::now();
 }
 
 void end_kernel(uint64_t id) {
   fence();
+  const Clock::time_point t1 = Clock::now();
   auto& [name, t0] = state.open_kernels.at(id);
   auto& e = state.report.kernels[name];
-  e.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+  e.seconds += std::chrono::duration<double>(t1 - t0).count();
   ++e.calls;
   // kernels do not nest: the last one opened is the one closing
   if (id + 1 == state.open_kernels.size()) state.open_kernels.pop_back();
@@ -42,16 +48,18 @@ void end_kernel(uint64_t id) {
 
 void push_region(const char* name) {
   fence();
-  state.open_regions.emplace_back(name, Clock::now());
+  state.open_regions.emplace_back(name, Clock::time_point{});
+  state.open_regions.back().second = Clock::now();
 }
 
 void pop_region() {
   fence();
+  const Clock::time_point t1 = Clock::now();
   if (state.open_regions.empty()) return;
   auto [name, t0] = state.open_regions.back();
   state.open_regions.pop_back();
   auto& e = state.report.regions[name];
-  e.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+  e.seconds += std::chrono::duration<double>(t1 - t0).count();
   ++e.calls;
 }
 

@@ -2,6 +2,7 @@
 #include "../kernels/solid_state.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "../kernels/mixture_stress.hpp"
 #include "../kernels/projection.hpp"
@@ -110,6 +111,9 @@ FlowProfiles Diagnostics::profiles() {
   const Grid& g = s_.grid();
   const Real n = Real(g.nx) * g.nz, rho = s_.config().fluid.rho;
   FlowProfiles p;
+  for (std::vector<Real>* v : {&p.y_centre, &p.u_mean, &p.phi_mean}) v->reserve(g.ny);
+  for (std::vector<Real>* v : {&p.y_face, &p.shear}) v->reserve(g.ny + 1);
+  for (std::vector<Real>& v : p.budget) v.reserve(g.ny + 1);
   for (int j = 0; j < g.ny; ++j) {
     p.y_centre.push_back(g.yc(Grid::ng + j));
     p.u_mean.push_back(host_(j, q_u) / n);
@@ -167,7 +171,7 @@ void Diagnostics::normal_stress_differences(Real& n1, Real& n2, Real& n1_elastic
   n1 = b[0] / cells, n2 = b[1] / cells, n1_elastic = b[2] / cells;
 }
 
-FlowScalars Diagnostics::scalars() {
+FlowScalars Diagnostics::scalars(FlowProfiles* profiles_out) {
   FlowScalars f;
   FlowProfiles p = profiles();
   f.tau_bottom = p.shear.front();
@@ -186,6 +190,7 @@ FlowScalars Diagnostics::scalars() {
   }
   normal_stress_differences(f.n1, f.n2, f.n1_elastic);
   f.n1 /= unit, f.n2 /= unit, f.n1_elastic /= unit;
+  if (profiles_out) *profiles_out = std::move(p);
 
   const Grid g = s_.grid();
   auto u = s_.state().u, v = s_.state().v, w = s_.state().w;

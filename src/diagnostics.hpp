@@ -76,7 +76,9 @@ struct FlowProfiles {
 class Diagnostics {
  public:
   explicit Diagnostics(FlowSolver& s);
-  FlowScalars scalars();
+  // profiles: if given, the profiles the scalars were computed from (a
+  // profiles row on the same step need not sum the planes again)
+  FlowScalars scalars(FlowProfiles* profiles = nullptr);
   void solid_scalars(FlowScalars& f);
   FlowProfiles profiles();
 

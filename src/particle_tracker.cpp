@@ -219,11 +219,10 @@ void ParticleTracker::update() {
   }
   const auto mh = moments_host_;
   Kokkos::deep_copy(mh, moments_);
-  std::vector<double> buf(mh.data(), mh.data() + n_moments * n);
-  MPI_Allreduce(MPI_IN_PLACE, buf.data(), n_moments * n, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
+  MPI_Allreduce(MPI_IN_PLACE, mh.data(), n_moments * n, MPI_DOUBLE, MPI_SUM, s_.decomposition().comm);
   const double dv = g.dx * g.dy * g.dz;
   for (int m = 0; m < n; ++m) {
-    const double* q = &buf[n_moments * m];
+    const double* q = mh.data() + n_moments * m;
     ParticleShape& p = shapes_[m];
     if (q[0] <= 0) continue;  // lost: keep the old centroid
     const Spread all = spread_of(q);

@@ -152,6 +152,7 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
 
   RunResult res;
   using clock = std::chrono::steady_clock;
+  Kokkos::fence("run_start");  // start-up's kernels (a restart's force) are not the run's
   const auto t0 = clock::now();
   auto last = t0;
   long last_step = solver.step;
@@ -205,8 +206,11 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
     solver.advance(dt);
     ++res.steps;
     if (after_step) after_step(solver);
+    FlowProfiles profiles;  // this step's, if its series row computed them
+    bool have_profiles = false;
     if (!std::isfinite(solver.time) || (oc.series_every && solver.step % oc.series_every == 0)) {
-      FlowScalars f = diag.scalars();
+      FlowScalars f = diag.scalars(&profiles);
+      have_profiles = true;
       if (!std::isfinite(f.kinetic_energy)) check_finite();
       series_rows(f, dt);
     }
@@ -215,7 +219,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
       out.snapshot();
       next_snap += snap_dt;
     }
-    if (oc.profiles_every && solver.step % oc.profiles_every == 0) out.profile_sample(diag.profiles());
+    if (oc.profiles_every && solver.step % oc.profiles_every == 0)
+      out.profile_sample(have_profiles ? profiles : diag.profiles());
     if (oc.checkpoint_every && solver.step % oc.checkpoint_every == 0) {
       checkpoint();
       last_checkpoint_time = clock::now();

@@ -7,19 +7,26 @@
 namespace softflow {
 
 void StepGuard::check(long step, double strain, double dt, DtLimit lim) {
-  std::ostringstream m;
-  m.precision(4);
+  // the messages are built only when a check fails: check runs every step
   if (!std::isfinite(dt) || !(dt > 0)) {
+    std::ostringstream m;
+    m.precision(4);
     m << "the time step is " << dt << " at step " << step << " (strain " << strain << ", " << to_string(lim)
       << " limit): the solution is no longer finite";
     throw RunFailure(m.str());
   }
   if (lim == DtLimit::end_time) return;
+  if (recent_.empty()) {
+    recent_.reserve(window);
+    sorted_.reserve(window);
+  }
   if (int(recent_.size()) >= min_history) {
-    std::vector<double> v = recent_;
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    const double median = v[v.size() / 2];
+    sorted_.assign(recent_.begin(), recent_.end());
+    std::nth_element(sorted_.begin(), sorted_.begin() + sorted_.size() / 2, sorted_.end());
+    const double median = sorted_[sorted_.size() / 2];
     if (dt < ratio * median) {
+      std::ostringstream m;
+      m.precision(4);
       m << "the time step collapsed at step " << step << " (strain " << strain << "): dt = " << dt
         << " from the " << to_string(lim) << " limit, below " << ratio << " x the median " << median
         << " of the last " << recent_.size() << " steps";

@@ -33,6 +33,7 @@ class StepGuard {
 
  private:
   std::vector<double> recent_;  // ring buffer of the last `window` time steps
+  std::vector<double> sorted_;  // the median's scratch, reserved once (no allocation a step)
   size_t next_ = 0;
 };
 

@@ -42,18 +42,19 @@ void SolidWatch::row(const FlowScalars& f, long step, double strain, std::ostrea
     log << "warning: at step " << step << " (strain " << strain << ") " << what << ": " << hint
         << " (reported once; summary.json's solid_checks has the whole run)" << std::endl;
   };
-  if (detb_outside(f.detb_raw_min, f.detb_raw_max))
+  // each message is built only the first time (rows come every few steps)
+  if (!warned_[0] && detb_outside(f.detb_raw_min, f.detb_raw_max))
     warn(0,
          "det B (before any projection) spans [" + num(f.detb_raw_min) + ", " + num(f.detb_raw_max) +
              "] in phi > 0.5 cells, outside [" + num(solid_bounds::detb_low) + ", " +
              num(solid_bounds::detb_high) + "]",
          detb_hint);
-  if (share_above(f.elastic_share_lowphi))
+  if (!warned_[1] && share_above(f.elastic_share_lowphi))
     warn(1,
          "cells with phi < 0.1 carry " + num(100 * f.elastic_share_lowphi) +
              "% of the elastic shear stress (bound " + num(100 * solid_bounds::elastic_share_lowphi) + "%)",
          share_hint);
-  if (volume_moved(f.solid_volume, v0_))
+  if (!warned_[2] && volume_moved(f.solid_volume, v0_))
     warn(2,
          "the solid volume moved by " + num(volume_drift(f.solid_volume, v0_)) + " relative (bound " +
              num(solid_bounds::volume_drift) + ")",
