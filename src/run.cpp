@@ -257,7 +257,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   out.snapshot();
   checkpoint();
   nlohmann::json measured;
-  const auto series = root ? read_columns(oc.dir + "/series.csv") : std::map<std::string, std::vector<double>>{};
+  const auto series =
+      root ? read_columns(oc.dir + "/series.csv") : std::map<std::string, std::vector<double>>{};
   measured["averages"] = run_averages(solver, out, series);
   if (root && solver.solid()) measured["solid_checks"] = solid_checks(series);
   write_summary(solver, f, res, oc.dir, measured, particles().size());
