@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <sstream>
 
+#include "csv_series.hpp"
 #include "hdf5_io.hpp"
 #include "run.hpp"
 #include "solid_util.hpp"
@@ -40,27 +40,6 @@ Config map_case(const std::string& dir, std::vector<std::string> extra = {}) {
   Config c = load_config(std::string(SOFTFLOW_SOURCE_DIR) + "/cases/phi0016_ca02.toml", o);
   resolve_rank_grid(c, world_size());
   return c;
-}
-
-// a column of series.csv, row by row
-std::vector<double> series_column(const std::string& csv, const std::string& name) {
-  std::istringstream in(csv);
-  std::string line, cell;
-  std::getline(in, line);
-  int col = -1, n = 0;
-  std::istringstream head(line);
-  while (std::getline(head, cell, ',')) {
-    if (cell == name) col = n;
-    ++n;
-  }
-  std::vector<double> out;
-  if (col < 0) return out;
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    for (int m = 0; m <= col && std::getline(row, cell, ','); ++m)
-      if (m == col) out.push_back(std::stod(cell));
-  }
-  return out;
 }
 }  // namespace
 
@@ -95,8 +74,8 @@ TEST(ReferenceMapRun, TankTreadingSphereKeepsVolumeAndRestartsBitIdentical) {
       // the map's phi is its share of the reference sphere, its volume error
       // put back in proportion to phi (1 - phi) every stage: the sum to
       // round-off (1e-12 relative, the bound), phi in [0, 1]
-      const std::vector<double> v = series_column(series, "solid_volume"),
-                                lo = series_column(series, "phi_min"), hi = series_column(series, "phi_max");
+      auto cols = read_columns(a + "/series.csv");
+      const std::vector<double> v = cols["solid_volume"], lo = cols["phi_min"], hi = cols["phi_max"];
       ASSERT_GT(v.size(), 10u);
       for (size_t m = 0; m < v.size(); ++m) {
         EXPECT_LE(std::abs(v[m] / v[0] - 1), 1e-12) << "row " << m;
