@@ -32,6 +32,7 @@ ColourFields::ColourFields(const Grid& g, int n, Real cut)
   near_halo_.assign(n, 1);
   near_wall_.assign(n, 1);
   sums_.assign(4 * std::size_t(n), 0);
+  coef_.assign(n, 0);  // sized here, so that no stage allocates it
   occ_last_.assign(std::size_t(n) * stride_, 0);
   occ_both_.assign(stride_, 0);
   ghost_list_.reserve(n);
