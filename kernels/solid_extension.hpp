@@ -31,6 +31,12 @@
 //    particle's mean B reads a more deformed particle than phi's shape
 //    (results/README.md, "B from the core"). The log mean keeps det B: a
 //    plain mean of the core's det-1 B put det B at 1.05-4.7 there.
+//    With particles.b_solid_phi below 1/2 (the thin-particle setting) there
+//    is no inner band, and the outer band's line moves down to it: B's own
+//    equation in every cell with phi >= b_solid_phi. A blade two or three
+//    cells across then has cells on its own B in every column, so its stress
+//    feels its own stretch and it does not neck (results/README.md, rounds
+//    39-40); SolidPhase passes the line as ExtensionBand's source_min.
 // When: by default after each step's last RK3 stage only (particles.
 //    b_extension_stages = "last"); "all" extends after every stage. In
 //    between, the band's B follows its own equation for up to two stages, a

@@ -41,7 +41,11 @@ constexpr Real phi_fluid_cut = 1e-6;  // below this a cell is fluid: B = I there
 // their 3x3x3 block at the stage's start. A dead cell's centre is at least
 // 1.5 cells from the 1/2 level of a tanh step of steepness 3.5 (a cell mean
 // of 0.05 lies within half a cell of it), and the interface moves less than
-// a cell per step (CFL 0.9): a dead cell cannot end a step solid. With the
+// a cell per step (CFL 0.9): a dead cell cannot end a step solid.
+// (With b_solid_phi below 1/2 B's own value survives from phi = b_solid_phi
+// >= 0.2; a dead cell, below 0.05 across its block, does not reach that
+// either in one step: tests/test_solid_region.cpp runs it with the mask and
+// without.) With the
 // extension after every stage (particles.b_extension_stages = "all")
 // results are unchanged to the last bit (tests/test_solid_region.cpp); with
 // it after a step's last stage only (the default), a dead cell keeps the

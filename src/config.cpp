@@ -348,9 +348,13 @@ Config parse_config(const std::string& text, const std::string& name,
                          ")");
       r.read("b_extension", p.b_extension, false);
       r.read("b_solid_phi", p.b_solid_phi, false);
-      if (!(p.b_solid_phi >= 0.5 && p.b_solid_phi <= 0.99))
-        throw InputError("'particles.b_solid_phi' must be in [0.5, 0.99] (got " +
+      if (!(p.b_solid_phi >= 0.2 && p.b_solid_phi <= 0.99))
+        throw InputError("'particles.b_solid_phi' must be in [0.2, 0.99] (got " +
                          std::to_string(p.b_solid_phi) + ")");
+      r.read("debris_return", p.debris_return, false);
+      if (p.debris_return && !p.b_extension)
+        throw InputError(
+            "'particles.debris_return' needs 'particles.b_extension' (it runs with B's extension)");
       r.read("b_extension_stages", p.b_extension_stages, false);
       if (p.b_extension_stages != "last" && p.b_extension_stages != "all")
         throw InputError("'particles.b_extension_stages' must be \"last\" or \"all\" (got \"" +

@@ -55,7 +55,12 @@ struct ParticleConfig {
   std::string phi_scheme = "mthinc";   // phi's faces: "mthinc", "thinc" (sharp) or "weno5" (the reference's)
   Real thinc_beta = 3.5;               // (M)THINC steepness: the interface spans about 2 / beta cells
   bool b_extension = true;  // B in 0 < phi < b_solid_phi cells from the solid side (else its own equation)
-  Real b_solid_phi = 0.9;   // at or above: B by its own equation; below: from the core (>= 0.5) or solid
+  // at or above: B by its own equation; below: from the core (>= 0.5: the inner
+  // band, 0.5 <= phi < b_solid_phi) or from the solid (phi >= min(b_solid_phi, 0.5))
+  Real b_solid_phi = 0.9;
+  // solid that has left its particle (cells with no phi >= 1/2 within two)
+  // goes back to the particles' interface cells once a step (SolidPhase::return_debris)
+  bool debris_return = false;
   std::string b_extension_stages = "last";  // B's extension after a step's last stage, or "all"
   bool unimodular_b = true;                 // B <- B / det(B)^(1/3) after each stage
   bool b_fallback = true;                   // first-order B update where the stage's is not admissible

@@ -270,6 +270,7 @@ void Diagnostics::solid_scalars(FlowScalars& f) {
   f.unimodular_removed = b.stages > 0 ? b.removed_sum / Real(b.stages) : 0;
   f.map_det_corrected = b.map_det_corrected;
   f.map_volume_moved = b.map_volume_moved;
+  f.debris_returned = b.debris_returned;
   long fallback = b.fallback_cells;
   MPI_Allreduce(MPI_IN_PLACE, &fallback, 1, MPI_LONG, MPI_SUM, s_.decomposition().comm);
   f.b_fallback_cells = fallback;

@@ -46,6 +46,8 @@ struct FlowScalars {
   // shear stress phi G B_xy carried by cells with phi < 0.1
   Real detb_raw_min = 1, detb_raw_max = 1, unimodular_removed = 0, elastic_share_lowphi = 0;
   Real map_det_corrected = 0, map_volume_moved = 0;  // particles.solid_model = "reference_map"
+  // particles.debris_return: the solid volume returned since the last row, relative
+  Real debris_returned = 0;
   Real solid_share_lowphi = 0;  // share of the solid volume in cells with phi < 0.1 (shed wisps)
   // the elastic part of n1, <<phi G (B_11 - B_22)>> / (mu_f gamma); n1 minus it is
   // the viscous part (at K != 1 the two nearly cancel, so each part's

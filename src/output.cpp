@@ -32,7 +32,7 @@ std::string series_header(bool solid) {
   if (solid)
     h += ",solid_volume,phi_min,phi_max,detb_min,detb_max,detb_raw_min,detb_raw_max,unimodular_removed,"
          "elastic_share_lowphi,b_fallback_cells,solid_share_lowphi,n1_elastic,map_det_corrected,map_volume_"
-         "moved";
+         "moved,debris_returned";
   return h;
 }
 const char* particles_header =
@@ -107,7 +107,7 @@ void Output::series_row(const FlowScalars& f, Real dt) {
       << f.phi_max << "," << f.detb_min << "," << f.detb_max << "," << f.detb_raw_min << "," << f.detb_raw_max
       << "," << f.unimodular_removed << "," << f.elastic_share_lowphi << "," << f.b_fallback_cells << ","
       << f.solid_share_lowphi << "," << f.n1_elastic << "," << f.map_det_corrected << ","
-      << f.map_volume_moved;
+      << f.map_volume_moved << "," << f.debris_returned;
   series_.append(r.str());
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "../kernels/solid_debris.hpp"
 #include "../kernels/solid_region.hpp"
 #include "../kernels/solid_transport.hpp"
 
@@ -46,13 +47,21 @@ SolidPhase::SolidPhase(const Config& cfg, const Grid& g, Halo& halo)
   extend_b_ = cfg.particles.b_extension && !map_.on();
   extend_every_stage_ = cfg.particles.b_extension_stages == "all";
   b_solid_phi_ = cfg.particles.b_solid_phi;
+  own_b_phi_ = std::min(b_solid_phi_, phi_solid);
+  return_debris_ = cfg.particles.debris_return && extend_b_;
+  // the colours would undo it: phi is their sum again after the next stage
+  if (return_debris_ && colours_.size() > 0)
+    throw InputError(
+        "'particles.debris_return' works on one phi field: set 'particles.colour_fields = 0' "
+        "(this case has " +
+        std::to_string(colours_.size()) + " colour fields)");
   if (extend_b_) b_live_ = LiveCells(g);
-  if (extend_b_ && b_solid_phi_ > phi_solid) core_logs_ = SolidFields(g, "solid_core_log");
+  if (extend_b_ && b_solid_phi_ > own_b_phi_) core_logs_ = SolidFields(g, "solid_core_log");
   unimodular_b_ = cfg.particles.unimodular_b;
   // the det test needs det B = 1 at every stage's start: only with the projection
   b_check_.on = cfg.particles.b_fallback && !map_.on();
   b_check_.det_tol = unimodular_b_ ? cfg.particles.b_fallback_det : 0;
-  b_check_.phi_min = extend_b_ ? phi_solid : phi_fluid_cut;
+  b_check_.phi_min = extend_b_ ? own_b_phi_ : phi_fluid_cut;
   b_check_.flag = flux_.x;  // the face-flux scratch is free once the stage's fluxes are summed
 }
 
@@ -361,23 +370,27 @@ void SolidPhase::constrain_b(bool extend) {
     // the transport's face-flux scratch is free between stages: the masks'
     // passes use its arrays. The largest phi within two cells says which
     // cells are near the core and which near phi >= 0.5 (phi does not
-    // change here, so both bands read the one field)
+    // change in the bands, so both read the one field)
     block_max(q_.phi(), 2, region_, flux_.x, flux_.y, flux_.x);
-    if (b_solid_phi_ > phi_solid) {
+    // the lost solid back to its particle first, so that the bands below
+    // see the phi that stays (a cell the return lifts past own_b_phi_ must
+    // not keep a band's B)
+    if (return_debris_ && return_debris(flux_.x)) block_max(q_.phi(), 2, region_, flux_.x, flux_.y, flux_.x);
+    if (b_solid_phi_ > own_b_phi_) {
       // the inner band first, from the core: the outer band then reads it.
       // The log of each core cell within two of the band, once (the third
       // scratch array holds the mask), then the band's mean of them
       const Range3 sources = grown(region_, 2, g_.all());
       mark_near_below(q_.phi(), b_solid_phi_, 2, sources, flux_.z, flux_.y, flux_.z);
       log_core_b(q_, sources, b_solid_phi_, flux_.z, core_logs_);
-      extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{phi_solid, b_solid_phi_, true, core_logs_});
+      extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{own_b_phi_, b_solid_phi_, true, core_logs_});
       // the outer band reads inner band cells up to two cells into the
       // ghosts (a neighbour rank's, a periodic image's, a wall's mirror):
       // they must hold the new B there too, not the transport's (without
       // this the answer depended on the rank grid, 1e-4-1e-2 in 6 steps)
       fill_b_ghosts();
     }
-    extend_b_from_solid(q_, region_, flux_.x);
+    extend_b_from_solid(q_, region_, flux_.x, ExtensionBand{-1, own_b_phi_, false, {}});
   }
   Real st[4];
   if (unimodular_b_) {
@@ -395,6 +408,20 @@ void SolidPhase::constrain_b(bool extend) {
   if (total != 0) b_stats_.removed_sum += st[2] / total;
   ++b_stats_.stages;
   if (extend_b_ || unimodular_b_) fill_b_ghosts();
+}
+
+// Lost solid back to the particles' interface (kernels/solid_debris.hpp);
+// near_max: block_max with reach 2. Returns whether any solid moved (then
+// the block max is stale; the ghosts are filled here).
+bool SolidPhase::return_debris(const Field3& near_max) {
+  Real sums[3];
+  debris_sums(q_.phi(), near_max, region_, sums);
+  MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_DOUBLE, MPI_SUM, halo_.comm());
+  if (sums[0] <= 0) return false;
+  b_stats_.debris_returned += sums[2] > 0 ? sums[0] / sums[2] : 0;
+  softflow::return_debris(q_, near_max, region_, sums);
+  fill_ghosts();
+  return true;
 }
 
 SolidPhase::BStats SolidPhase::take_b_stats() {

@@ -93,6 +93,7 @@ class SolidPhase {
     // found (before correcting), and the largest volume error, relative, its
     // phi moved into the interface cells (all ranks)
     Real map_det_corrected = 0, map_volume_moved = 0;
+    Real debris_returned = 0;  // particles.debris_return: the solid volume returned, relative, summed
   };
   BStats take_b_stats();
 
@@ -103,6 +104,8 @@ class SolidPhase {
   // B in the interface band from the solid side (`extend`: as the case asks),
   // then det B = 1 (as the case asks; kernels/solid_extension.hpp)
   void constrain_b(bool extend = true);
+  // particles.debris_return: lost solid back to the interface (the .cpp says which)
+  bool return_debris(const Field3& near_max);
   // reference map: phi and B from the map, then det B = 1 (as the case asks)
   void solid_from_map();
 
@@ -127,6 +130,8 @@ class SolidPhase {
   bool extend_every_stage_ = false;  // particles.b_extension_stages = "all" (else the step's last stage only)
   bool bound_colour_sum_ = true;     // particles.colour_sum_bound (ColourFields::bound_sum)
   Real b_solid_phi_;                 // B's own equation at or above, the extension's below
+  Real own_b_phi_;                   // B's own equation at or above: min(b_solid_phi, 1/2)
+  bool return_debris_ = false;       // particles.debris_return (SolidPhase::return_debris)
   BCheck b_check_;  // B's admissibility test and first-order fallback (kernels/solid_b_fallback.hpp)
   BStats b_stats_;
   bool track_region_ = true;

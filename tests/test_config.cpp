@@ -94,10 +94,13 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
     return o;
   };
   EXPECT_EQ(error_of(good, with("particles.b_solid_phi=0.9")), "");
-  expect_error(error_of(good, with("particles.b_solid_phi=0.4")),
-               "'particles.b_solid_phi' must be in [0.5, 0.99] (got 0.4");
+  EXPECT_EQ(error_of(good, with("particles.b_solid_phi=0.2", "particles.debris_return=true")), "");
+  expect_error(error_of(good, with("particles.b_solid_phi=0.1")),
+               "'particles.b_solid_phi' must be in [0.2, 0.99] (got 0.1");
   expect_error(error_of(good, with("particles.b_solid_phi=1")),
-               "'particles.b_solid_phi' must be in [0.5, 0.99]");
+               "'particles.b_solid_phi' must be in [0.2, 0.99]");
+  expect_error(error_of(good, with("particles.debris_return=true", "particles.b_extension=false")),
+               "'particles.debris_return' needs 'particles.b_extension'");
   EXPECT_EQ(error_of(good, with("particles.b_extension_stages=\"all\"")), "");
   expect_error(error_of(good, with("particles.b_extension_stages=\"first\"")),
                "'particles.b_extension_stages' must be \"last\" or \"all\" (got \"first\")");

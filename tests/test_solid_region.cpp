@@ -117,18 +117,23 @@ INSTANTIATE_TEST_SUITE_P(Viscous, SolidRegion, ::testing::Values("explicit", "im
 // same answer to the last bit (asserted to 1e-13, room for any reduction
 // whose order could vary between two runs). A dense, deforming scene (Phi =
 // 0.12, 4 cells per radius, Ca = 2, 40 implicit steps: the particles move
-// by cells), with THINC and MTHINC. With the extension after every stage:
+// by cells), with THINC, MTHINC, and MTHINC with B's own equation from
+// phi = 0.2 (b_solid_phi = 0.2, the thin-particle setting: a lower line the
+// mask's reach must still cover). With the extension after every stage:
 // after the last one only (the default), a dead cell keeps the last step's
 // extended B through the step where "everywhere" stretches it by its own
 // equation for two stages, so the two differ by design (below 5% of phi
 // there, in the stress's weight).
 TEST(SolidRegion, BLiveCellsGiveTheAnswerOfBEverywhere) {
-  for (const char* scheme : {"thinc", "mthinc"}) {  // B's path is the same with WENO5 phi
+  // B's path is the same with WENO5 phi
+  for (const auto& [scheme, b_solid_phi] :
+       {std::pair{"thinc", "0.9"}, {"mthinc", "0.9"}, {"mthinc", "0.2"}}) {
     Config c = couette_case(
         48, 16, 48,
         {"particles.radius=0.5", "particles.volume_fraction=0.12", "particles.seed=5",
          "particles.shear_modulus=0.5", std::string("particles.phi_scheme=\"") + scheme + "\"",
-         "particles.b_extension_stages=\"all\"", "initial.type=\"couette\"", "time.viscous=\"implicit\""});
+         std::string("particles.b_solid_phi=") + b_solid_phi, "particles.b_extension_stages=\"all\"",
+         "initial.type=\"couette\"", "time.viscous=\"implicit\""});
     FlowSolver live(c, MPI_COMM_WORLD), every(c, MPI_COMM_WORLD);
     every.solid()->set_b_live_cells(false);
     live.initialize();
@@ -141,8 +146,9 @@ TEST(SolidRegion, BLiveCellsGiveTheAnswerOfBEverywhere) {
       t += dt;
     }
     const double d = worst_difference(live, every);
-    if (world_rank() == 0) std::printf("  %s, to strain %.2f: max difference %.3e\n", scheme, t, d);
-    EXPECT_LT(d, 1e-13) << scheme;
+    if (world_rank() == 0)
+      std::printf("  %s, b_solid_phi %s, to strain %.2f: max difference %.3e\n", scheme, b_solid_phi, t, d);
+    EXPECT_LT(d, 1e-13) << scheme << ", b_solid_phi " << b_solid_phi;
   }
 }
 
