@@ -34,25 +34,31 @@ class RestartParticles : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RestartParticles, SuspensionRestartIsBitIdentical) {
   // "colours": the implicit step with one colour field per particle
-  // (particles.colour_fields), whose fields are restored too
-  const std::string variant = GetParam(), scheme = variant == "colours" ? "implicit" : variant;
+  // (particles.colour_fields), whose fields are restored too; "thin": the
+  // implicit step with the thin-particle setting (B's own equation from
+  // phi = 0.2 and the debris return, which this coarse dense scene uses)
+  const std::string variant = GetParam();
+  const std::string scheme = variant == "colours" || variant == "thin" ? "implicit" : variant;
   const std::string tag = variant + "_np" + std::to_string(world_size());
   const std::string visc = "time.viscous=\"" + scheme + "\"",
                     colours = "particles.colour_fields=" + std::string(variant == "colours" ? "1000" : "0");
+  const bool thin = variant == "thin";
+  const std::string own = "particles.b_solid_phi=" + std::string(thin ? "0.2" : "0.9"),
+                    debris = "particles.debris_return=" + std::string(thin ? "true" : "false");
   // the implicit step is longer: run further for the same few steps
   const std::string strain = scheme == "implicit" ? "time.end_strain=1.0" : "time.end_strain=0.06";
   const std::string a = "restart_susp_full_" + tag, b = "restart_susp_split_" + tag;
   fresh_dirs({a, b});
   std::ostringstream log;
-  RunResult full = run_case(suspension(a, {visc, strain, colours}), MPI_COMM_WORLD, log);
-  run_case(suspension(b, {visc, strain, colours, "time.max_steps=5"}), MPI_COMM_WORLD, log);
-  Config c = suspension(b, {visc, strain, colours});
+  RunResult full = run_case(suspension(a, {visc, strain, colours, own, debris}), MPI_COMM_WORLD, log);
+  run_case(suspension(b, {visc, strain, colours, own, debris, "time.max_steps=5"}), MPI_COMM_WORLD, log);
+  Config c = suspension(b, {visc, strain, colours, own, debris});
   c.restart = b + "/checkpoint.h5";
   RunResult second = run_case(c, MPI_COMM_WORLD, log);
   EXPECT_EQ(5 + second.steps, full.steps);
   EXPECT_GT(second.steps, 3);
   // every field of the two final checkpoints, bit for bit
-  Config probe = suspension(a, {visc, strain, colours});
+  Config probe = suspension(a, {visc, strain, colours, own, debris});
   FlowSolver s(probe, MPI_COMM_WORLD);
   std::vector<std::string> names = {"u", "v", "w", "p", "phi", "Bxx", "Bxy", "Bxz", "Byy", "Byz", "Bzz"};
   for (int m = 0; m < s.solid()->colours().size(); ++m) names.push_back("colour_" + std::to_string(m));
@@ -73,7 +79,20 @@ TEST_P(RestartParticles, SuspensionRestartIsBitIdentical) {
     EXPECT_EQ(ja["solid_checks"], jb["solid_checks"]);
     EXPECT_EQ(ja["averages"], jb["averages"]);
     EXPECT_TRUE(ja["solid_checks"]["solid_volume_drift"]["pass"].get<bool>());
+    if (thin) {  // the return ran (else this variant tests nothing new)
+      std::istringstream series(read_text(a + "/series.csv"));
+      std::string line;
+      std::getline(series, line);
+      const std::string head = line;
+      const std::string key = "debris_returned";
+      ASSERT_NE(head.rfind(key), std::string::npos);
+      ASSERT_EQ(head.rfind(key) + key.size(), head.size()) << "debris_returned is the last column";
+      double returned = 0;
+      while (std::getline(series, line)) returned += std::stod(line.substr(line.rfind(',') + 1));
+      EXPECT_GT(returned, 0);
+    }
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Viscous, RestartParticles, ::testing::Values("explicit", "implicit", "colours"));
+INSTANTIATE_TEST_SUITE_P(Viscous, RestartParticles,
+                         ::testing::Values("explicit", "implicit", "colours", "thin"));
