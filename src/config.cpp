@@ -390,6 +390,9 @@ Config parse_config(const std::string& text, const std::string& name,
       if (p.solid_model != "phi_b" && p.solid_model != "reference_map")
         throw InputError("'particles.solid_model' must be \"phi_b\" or \"reference_map\" (got \"" +
                          p.solid_model + "\")");
+      if (p.debris_return && p.solid_model != "phi_b")
+        throw InputError(
+            "'particles.debris_return' needs 'particles.solid_model = \"phi_b\"' (the map makes phi)");
       r.read("map_volume_correction", p.map_volume_correction, false);
       if (p.map_volume_correction && p.solid_model != "reference_map")
         throw InputError(

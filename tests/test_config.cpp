@@ -101,6 +101,9 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
                "'particles.b_solid_phi' must be in [0.2, 0.99]");
   expect_error(error_of(good, with("particles.debris_return=true", "particles.b_extension=false")),
                "'particles.debris_return' needs 'particles.b_extension'");
+  expect_error(
+      error_of(good, with("particles.debris_return=true", "particles.solid_model=\"reference_map\"")),
+      "'particles.debris_return' needs 'particles.solid_model = \"phi_b\"'");
   EXPECT_EQ(error_of(good, with("particles.b_extension_stages=\"all\"")), "");
   expect_error(error_of(good, with("particles.b_extension_stages=\"first\"")),
                "'particles.b_extension_stages' must be \"last\" or \"all\" (got \"first\")");
@@ -117,8 +120,9 @@ TEST(Config, SolidNumericsOutOfRangeAreRejected) {
   EXPECT_EQ(error_of(good, with("particles.solid_model=\"reference_map\"")), "");
   expect_error(error_of(good, with("particles.solid_model=\"level_set\"")),
                "'particles.solid_model' must be \"phi_b\" or \"reference_map\" (got \"level_set\")");
-  EXPECT_EQ(error_of(good, with("particles.solid_model=\"reference_map\"", "particles.map_volume_correction=true")),
-            "");
+  EXPECT_EQ(
+      error_of(good, with("particles.solid_model=\"reference_map\"", "particles.map_volume_correction=true")),
+      "");
   expect_error(error_of(good, with("particles.map_volume_correction=true")),
                "'particles.map_volume_correction' needs 'particles.solid_model = \"reference_map\"'");
   auto map_with = [&](const std::string& key, bool on) {
