@@ -38,10 +38,13 @@ expect_failure "grid.nx = 33 is not divisible by parallel.px = 2" \
 expect_failure "output folder '/proc/softflow' cannot be created" "$exe" "$case" --set 'output.dir="/proc/softflow"'
 expect_failure "restart file '$work/none.h5' does not exist" run "$case" --restart "$work/none.h5"
 expect_failure "unknown option '--bogus'" "$exe" "$case" --bogus
+# a check made where the solid phase is set up, not in the case file's parser
+expect_failure "'particles.debris_return' works on one phi field" run "$case" --set particles.radius=0.2 \
+  --set particles.count=2 --set particles.shear_modulus=1.0 --set particles.debris_return=true
 
 after=$(cd "$out" && ls -l --time-style=full-iso | md5sum; cat series.csv | md5sum)
 if [ "$before" != "$after" ]; then
   echo "FAIL: the output folder changed"; ls -la "$out"; fails=$((fails + 1))
 fi
-echo "$((9 - fails)) of 9 bad inputs rejected cleanly"
+echo "$((10 - fails)) of 10 bad inputs rejected cleanly"
 [ $fails -eq 0 ]
