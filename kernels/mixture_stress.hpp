@@ -76,7 +76,7 @@ struct MixtureStress {
 
   // elastic stress tau_m / rho = (G / rho) phi (B_m - delta_m) at a cell centre
   KOKKOS_INLINE_FUNCTION Real tau(const SolidViews& s, int m, int i, int j, int k) const {
-    const Real delta = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+    const Real delta = identity_component(m);
     return g_rho * fraction(s.phi(i, j, k)) * (s.B(m, i, j, k) - delta);
   }
   // average of tau_m over the 4 cells around an edge: (i,j,k), +d, +e, +d+e;

@@ -65,7 +65,7 @@ inline void return_debris(const SolidFields& f, const Field3& near_max, const Ra
       "solid_debris_return", region, KOKKOS_LAMBDA(int i, int j, int k) {
         if (near_max(i, j, k) < debris_core_phi) {
           q.phi(i, j, k) = 0;
-          for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+          for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = identity_component(m);
         } else {
           q.phi(i, j, k) = redistributed_phi(q.phi(i, j, k), a, 0);
         }

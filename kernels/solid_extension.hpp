@@ -156,7 +156,7 @@ inline void extend_b_from_solid(const SolidFields& f, const Range3& region, cons
           }
           for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = acc[m];
         } else if (pc > 0 && !keep) {
-          for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+          for (int m = 0; m < 6; ++m) q.field(1 + m)(i, j, k) = identity_component(m);
         }
       });
 }

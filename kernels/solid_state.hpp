@@ -8,6 +8,9 @@
 
 namespace softflow {
 
+// I's component m in B's six-component storage (0 xx, 1 xy, 2 xz, 3 yy, 4 yz, 5 zz)
+KOKKOS_INLINE_FUNCTION Real identity_component(int m) { return (m == 0 || m == 3 || m == 5) ? 1 : 0; }
+
 constexpr int n_solid_fields = 7;  // phi and B's six components
 
 // B index of (a, b), a, b in {0, 1, 2}

@@ -398,7 +398,7 @@ inline void solid_rk3_update(const SolidFields& f, const SolidFields& now, const
         for (int m = 0; m < 6; ++m) bn[m] = q.B(m, i, j, k) + (gdt * a.B(m, i, j, k) + zdt * b.B(m, i, j, k));
         Real state = b_updated;
         if (q.phi(i, j, k) < phi_fluid_cut) {
-          for (int m = 0; m < 6; ++m) bn[m] = (m == 0 || m == 3 || m == 5) ? 1 : 0;
+          for (int m = 0; m < 6; ++m) bn[m] = identity_component(m);
           state = b_reset;
         } else if (on && q.phi(i, j, k) >= phi_min && !b_admissible(bn, det_tol)) {
           state = b_troubled;
