@@ -36,6 +36,15 @@ check, per run:
   - cells with phi < 0.1 carry less than 5% of sum(phi G B_xy), at every row
     after strain 1 (the start-up from a sphere).
   - the solid volume stays within 1e-12 relative of its first value.
+  Reported beside, not conditions of the issue's: what the window test can
+  resolve. Two windows agree within 2 standard errors however large those
+  are, and a limit cycle of one period per window has errors of 10-30% of
+  its mean and passes. So: the test's tolerance over the later window's
+  value (mu: the particles' part, [mu] or mu/mu_f - 1, for both dilute and
+  dense runs), "resolves" where it is within 10% for mu and 5% for T (the
+  accuracy item 3 of the issue asks of a converged answer); and the swing,
+  largest minus smallest 10-strain window mean over [w0, w2) over their
+  mean: a steady particle's is its noise, a limit cycle's its amplitude.
   Reported beside (series written since it has the column): the largest
   share of the solid volume in cells with phi < 0.1, solid shed as wisps.
   Also beside, not a condition of the issue's: the linear trend over
@@ -342,6 +351,7 @@ def check(run, windows, se="tau"):
         if tb1 and tb2:
             a_tb, tol_tb = agree(tb1, tb2)
             out.update(tb1=tb1, tb2=tb2, tb_ok=a_tb, tol_tb=tol_tb)
+        resolution(run, out, windows)
     lo_col = "detb_raw_min" if "detb_raw_min" in rows[0] else "detb_min"
     hi_col = "detb_raw_max" if "detb_raw_max" in rows[0] else "detb_max"
     dmin = min(float(r[lo_col]) for r in rows)
@@ -368,6 +378,47 @@ def check(run, windows, se="tau"):
     out["mu_name"] = run.mu_name
     out["wall_per_strain"] = run.wall_seconds / max(reached, 1e-9)
     return out
+
+
+# The accuracy issue 12 asks of a converged answer (item 3: T within 5% of
+# the theory, [mu] within 10%): a window test whose tolerance is wider than
+# that cannot show the answer steady to the accuracy it is reported with.
+RESOLVE = {"mu": 0.10, "T": 0.05}
+SWING_WIDTH = 10.0  # strain units a window of the swing
+
+
+def particle_part(run, mu):
+    """The particles' own share of mu: [mu] itself for a dilute run, mu/mu_f - 1
+    for a dense one (what Phi times [mu] would be)."""
+    return mu if run.dilute else mu - 1
+
+
+def resolution(run, out, windows):
+    """How much the window test can see. Two windows agree within 2 standard
+    errors however large those are: a limit cycle with one period per window
+    has errors of 10-30% of the mean and passes (the thin setting at Ca = 2,
+    results/README.md, round 40). Adds to `out`:
+      rel_tol_mu, rel_tol_t: the test's tolerance over the later window's
+        value (mu: its particle part), against RESOLVE;
+      resolves: both within RESOLVE;
+      swing_mu, swing_t: (largest - smallest) of the SWING_WIDTH-strain
+        window means over [w0, w2), over their mean: what the particles do
+        within the windows. A steady particle's is its noise; a limit cycle
+        shows its amplitude."""
+    out["rel_tol_mu"] = out["tol_mu"] / abs(particle_part(run, out["mu2"][0]))
+    out["rel_tol_t"] = out["tol_t"] / abs(out["t2"][0])
+    out["resolves"] = out["rel_tol_mu"] <= RESOLVE["mu"] and out["rel_tol_t"] <= RESOLVE["T"]
+    series = [(float(r["strain"]), particle_part(run, run.mu(r))) for r in run.series if int(r["step"]) > 0]
+    shape = [(float(r["strain"]), float(r["taylor_mean"])) for r in run.particles]
+    for key, pts in (("swing_mu", series), ("swing_t", shape)):
+        means, lo = [], windows[0]
+        while lo < windows[2] - 1e-9:
+            v = [y for x, y in pts if lo <= x < min(lo + SWING_WIDTH, windows[2])]
+            if v:
+                means.append(sum(v) / len(v))
+            lo += SWING_WIDTH
+        mean = sum(means) / len(means)
+        out[key] = (max(means) - min(means)) / abs(mean) if len(means) > 1 and mean else math.nan
 
 
 def window_means(run, width):
@@ -415,12 +466,23 @@ def taus(r):
     return " / ".join(f"{t[k]:.2f}" if k in t else "-" for k in ("mu", "T"))
 
 
+def resolution_cells(r):
+    if "resolves" not in r:
+        return ["-", "-", "-"]
+    pct = lambda v: "-" if math.isnan(v) else f"{100 * v:.1f}%"  # noqa: E731
+    short = [q for q, k in (("mu", "rel_tol_mu"), ("T", "rel_tol_t")) if r[k] > RESOLVE[q]]
+    return [f"{pct(r['rel_tol_mu'])} / {pct(r['rel_tol_t'])}", f"{pct(r['swing_mu'])} / {pct(r['swing_t'])}",
+            "yes" if r["resolves"] else "NO (" + ", ".join(short) + ")"]
+
+
 def markdown(results, windows):
     w = windows
     lines = [f"| run | grid | strain | Phi | quantity | [{w[0]:g},{w[1]:g}) | [{w[1]:g},{w[2]:g}) | agree (tol) "
              "| T [{0:g},{1:g}) | T [{1:g},{2:g}) | agree (tol) | T of B [{0:g},{1:g}) | T of B [{1:g},{2:g}) | agree (tol) | det B (phi > 0.5) | projection: share removed per strain "
-             "| max share phi < 0.1 | max solid volume share phi < 0.1 | volume drift | wall s / strain | tau of mu / T (strain) | pass |".format(*w),
-             "|" + "---|" * 22]
+             "| max share phi < 0.1 | max solid volume share phi < 0.1 | volume drift | wall s / strain | tau of mu / T (strain) | pass "
+             "| tol / value: mu / T | {3:g}-strain swing: mu / T | resolves ({4:g}% / {5:g}%) |".format(
+                 *w, SWING_WIDTH, 100 * RESOLVE["mu"], 100 * RESOLVE["T"]),
+             "|" + "---|" * 25]
     for r in results:
         if "mu1" in r:
             cols = [r["mu_name"], fmt(r["mu1"]), fmt(r["mu2"]), f"{'yes' if r['mu_ok'] else 'NO'} ({r['tol_mu']:.4f})",
@@ -433,7 +495,12 @@ def markdown(results, windows):
             cols += ["-", "-", "-"]
         lines.append("| " + " | ".join([r["run"], r["grid"], f"{r['strain']:.1f}", f"{r['phi']:.4f}"] + cols + [
             f"[{r['detb'][0]:.4f}, {r['detb'][1]:.4f}]", f"{r['removed_max']:+.1e}", f"{r['lowphi_max']:.3f}",
-            "-" if math.isnan(r["shed_max"]) else f"{r['shed_max']:.3f}", f"{r['volume_drift']:.1e}", f"{r['wall_per_strain']:.0f}", taus(r), "PASS" if r["pass"] else "FAIL"]) + " |")
+            "-" if math.isnan(r["shed_max"]) else f"{r['shed_max']:.3f}", f"{r['volume_drift']:.1e}", f"{r['wall_per_strain']:.0f}", taus(r), "PASS" if r["pass"] else "FAIL"] + resolution_cells(r)) + " |")
+    lines += ["", f"tol / value: the window test's tolerance over the later window's value (mu: the particles' part,"
+              f" [mu] or mu/mu_f - 1); resolves: within {100 * RESOLVE['mu']:g}% for mu and {100 * RESOLVE['T']:g}%"
+              " for T, the accuracy issue 12 asks of the converged answer (not a condition of its stationarity);"
+              f" swing: largest minus smallest {SWING_WIDTH:g}-strain window mean over [{w[0]:g}, {w[2]:g}),"
+              " over their mean."]
     lines += ["", f"Linear trends over [{w[0]:g}, {w[2]:g}) (not a condition of the issue's): each quantity's fitted"
               f" change per {TREND_SPAN} strain units, relative to its mean, ± one standard error (10 batch means);"
               " 'drifts' where beyond 2 standard errors.", ""]

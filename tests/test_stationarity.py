@@ -6,6 +6,8 @@ window test (its windows differ by 0.8%, under the 1% bound) and its trend
 is reported as a drift of 1.6% per 40 strain units; det B out of [0.97,
 1.03], the stress in low-phi cells and a volume change each fail the run;
 the trend of where a suspension's solid sits across the gap (profiles);
+whether the window test resolves the answer (a limit cycle of one period
+per window passes it with a tolerance of 22% and a 10-strain swing of 45%);
 the count of phi's connected bodies that the shape report gives; and the
 windows' standard error with correlated data (the autocorrelation time
 read from AR(1) series, and the false-alarm rate of the window test).
@@ -33,10 +35,11 @@ VOL = 4 / 3 * math.pi  # one sphere of radius 1: Phi = 0.0016, a dilute run ([mu
 
 
 def write_run(folder, mu=lambda s: 2.5, noise=0.01, detb=(0.999, 1.001), lowphi=0.02, volume=lambda s: VOL,
-              strain_end=50.0, rows=2001, seed=1):
+              strain_end=50.0, rows=2001, seed=1, taylor=lambda s: 0.2, mu_eff=None):
     """A run folder: series.csv and particles.csv every 0.025 strain units,
-    [mu](strain) plus white noise of relative size `noise`, T = 0.2 with the
-    same noise, and summary.json."""
+    [mu](strain) plus white noise of relative size `noise` (or mu/mu_f =
+    mu_eff(strain) where given, for a dense run), T = taylor(strain) (0.2)
+    with the same noise, and summary.json."""
     rng = random.Random(seed)
     os.makedirs(folder)
     phi = VOL / (BOX[0] * BOX[1] * BOX[2])
@@ -50,8 +53,9 @@ def write_run(folder, mu=lambda s: 2.5, noise=0.01, detb=(0.999, 1.001), lowphi=
         for i in range(rows):
             s = strain_end * i / (rows - 1)
             m = mu(s) * (1 + noise * rng.gauss(0, 1))
-            ws.writerow([10 * i, s, 1 + phi * m, volume(s), detb[0], detb[1], 1e-6, lowphi, 0.001])
-            t = 0.2 * (1 + noise * rng.gauss(0, 1))
+            eff = 1 + phi * m if mu_eff is None else mu_eff(s) * (1 + noise * rng.gauss(0, 1))
+            ws.writerow([10 * i, s, eff, volume(s), detb[0], detb[1], 1e-6, lowphi, 0.001])
+            t = taylor(s) * (1 + noise * rng.gauss(0, 1))
             wp.writerow([10 * i, s, t, t, 1.2, 0.83, 1.0])
     json.dump({"case": {"box": BOX, "grid": [64, 40, 64]}, "performance": {"wall_seconds": 100.0}},
               open(os.path.join(folder, "summary.json"), "w"))
@@ -162,6 +166,40 @@ with tempfile.TemporaryDirectory() as tmp:
           f"{[(r['from'], round(r['wall'], 5)) for r in rows]} (want 0.5, ..., {mean_w(30):.5f} at 30)")
     out = subprocess.run([sys.executable, SCRIPT, "windows", near], capture_output=True, text=True)
     check("windows printed", "| [40, 50) |" in out.stdout and "50.00%" in out.stdout, out.stdout[-400:] + out.stderr)
+
+    # 6d. What the window test can resolve. A limit cycle of one period per
+    #     window (period 20 strain units, [mu] and T +-35%, as the thin
+    #     setting's Ca = 2 sphere, results/README.md round 40) has equal
+    #     window means and passes; its correlation time (about 1.5 strain
+    #     units by Sokal's window on a sine of 800 rows) makes the tolerance
+    #     about 20% of [mu] and of T (22% read), so it does not resolve the
+    #     10% / 5% the issue asks of the answer; its 10-strain windows (half periods,
+    #     mean +-0.35 * 2/pi) swing by 4 * 0.35 / pi = 44.6%. The steady run
+    #     resolves both, and its swing is its noise (400 rows a window, 1%:
+    #     under 0.5%).
+    cycle = lambda s: 1 + 0.35 * math.sin(2 * math.pi * s / 20)  # noqa: E731
+    r = run_check(write_run(os.path.join(tmp, "cycle"), mu=lambda s: 2.5 * cycle(s),
+                            taylor=lambda s: 0.2 * cycle(s), noise=0.002, seed=4))
+    want = 4 * 0.35 / math.pi
+    check("limit cycle: passes the windows, does not resolve",
+          r["pass"] and not r["resolves"] and r["rel_tol_mu"] > 0.1 and r["rel_tol_t"] > 0.05,
+          f"pass {r['pass']}, tol/value {100 * r['rel_tol_mu']:.1f}% / {100 * r['rel_tol_t']:.1f}%")
+    check("limit cycle: the swing is its amplitude",
+          abs(r["swing_mu"] - want) < 0.01 and abs(r["swing_t"] - want) < 0.01,
+          f"{100 * r['swing_mu']:.2f}% / {100 * r['swing_t']:.2f}% (want {100 * want:.2f}%)")
+    r = run_check(os.path.join(tmp, "steady"))
+    check("steady run resolves, swing under 0.5%", r["resolves"] and max(r["swing_mu"], r["swing_t"]) < 0.005,
+          f"tol/value {100 * r['rel_tol_mu']:.2f}% / {100 * r['rel_tol_t']:.2f}%, "
+          f"swing {100 * r['swing_mu']:.2f}% / {100 * r['swing_t']:.2f}%")
+    # a dense run (Phi = 0.11, mu/mu_f = 1.3 with 0.1% noise): the 1% bound,
+    # 0.013, is the tolerance, and it is read against mu/mu_f - 1 = 0.3
+    r = run_check(write_run(os.path.join(tmp, "dense_tol"), volume=lambda s: dense_vol,
+                            mu_eff=lambda s: 1.3, noise=0.001, seed=5))
+    check("dense: tolerance over the particles' part", abs(r["rel_tol_mu"] - 0.013 / 0.3) < 1e-3,
+          f"{100 * r['rel_tol_mu']:.3f}% (want {100 * 0.013 / 0.3:.3f}%)")
+    out = subprocess.run([sys.executable, SCRIPT, "check", os.path.join(tmp, "cycle")], capture_output=True,
+                         text=True)
+    check("resolution columns printed", "| NO (mu, T) |" in out.stdout, out.stdout[:300] + out.stderr)
 
 # 7. Bodies of phi (the shape report's fusion count): two balls apart are
 #    two; one cut by the periodic x boundary is one; two touching only
