@@ -408,29 +408,24 @@ def resolution(run, out, windows):
     out["rel_tol_mu"] = out["tol_mu"] / abs(particle_part(run, out["mu2"][0]))
     out["rel_tol_t"] = out["tol_t"] / abs(out["t2"][0])
     out["resolves"] = out["rel_tol_mu"] <= RESOLVE["mu"] and out["rel_tol_t"] <= RESOLVE["T"]
-    series = [(float(r["strain"]), particle_part(run, run.mu(r))) for r in run.series if int(r["step"]) > 0]
-    shape = [(float(r["strain"]), float(r["taylor_mean"])) for r in run.particles]
-    for key, pts in (("swing_mu", series), ("swing_t", shape)):
-        means, lo = [], windows[0]
-        while lo < windows[2] - 1e-9:
-            v = [y for x, y in pts if lo <= x < min(lo + SWING_WIDTH, windows[2])]
-            if v:
-                means.append(sum(v) / len(v))
-            lo += SWING_WIDTH
-        mean = sum(means) / len(means)
+    rows = window_means(run, SWING_WIDTH, windows[0], windows[2])
+    for key, means in (("swing_mu", [particle_part(run, w["mu"]) for w in rows]), ("swing_t", [w["T"] for w in rows])):
+        means = [m for m in means if not math.isnan(m)]
+        mean = sum(means) / len(means) if means else math.nan
         out[key] = (max(means) - min(means)) / abs(mean) if len(means) > 1 and mean else math.nan
 
 
-def window_means(run, width):
-    """Consecutive strain windows [0, w), [w, 2w), ... up to the run's end:
+def window_means(run, width, start=0.0, end=math.inf):
+    """Consecutive strain windows [start, start + w), ... up to the run's end
+    (or `end`, where the last window is cut):
     per window the mean of mu (or [mu]), T and T of B, and for dense runs
     the solid's <|y|> and its share within one radius of a wall. Means only:
     the evidence that a run has settled is that the late windows agree."""
-    reached = float(run.series[-1]["strain"])
+    reached = min(float(run.series[-1]["strain"]), end)
     mean = lambda v: sum(v) / len(v) if v else math.nan  # noqa: E731
-    out, lo = [], 0.0
+    out, lo = [], start
     while lo < reached - 1e-9:
-        hi = lo + width
+        hi = min(lo + width, end)
         inside = lambda x: lo <= x < hi  # noqa: E731
         parts = [r for r in run.particles if inside(float(r["strain"]))]
         gap = [(y, w, c) for x, y, w, c in run.across if inside(x)]
