@@ -192,6 +192,11 @@ def collect(names, args, ref):
         for k in BUDGET:
             v = (q.get("budget_share") or {}).get(k) or {}
             row["share_" + k], row["share_" + k + "_stderr"] = v.get("mean"), v.get("stderr")
+        # whether the averaging span's two halves agree (summary.json
+        # averages.halves; empty for a run from before it)
+        h = a.get("halves") or {}
+        for k in ("mu", "taylor"):
+            row[k + "_halves_agree"] = (h.get(k) or {}).get("agree")
         rows.append(row)
     if not rows:
         return None

@@ -11,6 +11,13 @@
 // stderr = std(batch means) / sqrt(10). Batches longer than the correlation
 // time make the batch means independent; with fewer than 20 samples no
 // uncertainty is given (NaN).
+//
+// Stationarity: the averaging span in two halves by strain, tested as issue
+// 12 tests a run (means within 2 standard errors of their difference or 1%
+// of the later one, whichever is larger), with each half's error from the
+// whole span's integrated autocorrelation time, as scripts/stationarity.py
+// check does by default. So every average in summary.json says whether the
+// span it covers is stationary by that test.
 #pragma once
 #include <cstddef>
 #include <vector>
@@ -28,5 +35,19 @@ size_t mser_start(const std::vector<double>& x);
 
 // mean and batch-means standard error of x[start:], NaN entries skipped
 Average batch_mean(const std::vector<double>& x, size_t start, int batches = 10);
+
+// integrated autocorrelation time of x in samples, tau = 1 + 2 sum_k rho_k
+// with Sokal's automatic window (the first lag M >= 5 tau(M)); at least 1
+double integrated_time(const std::vector<double>& x);
+
+// the two halves of the span of x (sampled at `strain`) from strain `from` on
+struct Halves {
+  double split = 0;       // the strain between them: (from + last) / 2
+  Average first, second;  // stderr: sqrt(var tau / n), tau from the whole span
+  double tolerance = 0;   // max(2 sqrt(se1^2 + se2^2), 0.01 |second|)
+  bool judged = false;    // each half has 20 samples or more
+  bool agree = false;     // judged and |second - first| <= tolerance
+};
+Halves compare_halves(const std::vector<double>& strain, const std::vector<double>& x, double from);
 
 }  // namespace softflow

@@ -103,7 +103,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   std::unique_ptr<ParticleTracker> tracker;
   if (solver.solid())
     tracker = std::make_unique<ParticleTracker>(
-        solver, restarted ? tracked : ParticleTracker::from_spheres(solver.solid()->spheres(), cfg.particles));
+        solver,
+        restarted ? tracked : ParticleTracker::from_spheres(solver.solid()->spheres(), cfg.particles));
   const std::vector<ParticleShape> no_particles;
   auto particles = [&]() -> const std::vector<ParticleShape>& {
     return tracker ? tracker->shapes() : no_particles;
@@ -263,6 +264,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   if (root && solver.solid()) measured["solid_checks"] = solid_checks(series);
   write_summary(solver, f, res, oc.dir, measured, particles().size());
   if (root) {
+    const std::string halves = halves_line(measured["averages"]);
+    if (!halves.empty()) log << halves << "\n";
     log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
         << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff << ", output in "
         << oc.dir << "/\n";

@@ -13,9 +13,18 @@ namespace {
 
 using Columns = std::map<std::string, std::vector<double>>;
 
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
 nlohmann::json to_json(const Average& a) {
-  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   return {{"mean", num(a.mean)}, {"stderr", num(a.stderr_)}, {"samples", a.samples}};
+}
+
+nlohmann::json to_json(const Halves& h, const std::string& quantity) {
+  return {{"quantity", quantity},
+          {"first", to_json(h.first)},
+          {"second", to_json(h.second)},
+          {"tolerance", num(h.tolerance)},
+          {"agree", h.judged ? nlohmann::json(h.agree) : nlohmann::json(nullptr)}};
 }
 
 std::string num_str(double v) {
@@ -126,6 +135,27 @@ nlohmann::json run_averages(const FlowSolver& s, Output& out, const Columns& ser
   }
   j["quantities"] = q;
 
+  // the span's two halves, as issue 12 tests a run's windows: mu ([mu] for a
+  // dilute run, whose 1% is the particles' own) and the mean Taylor parameter
+  nlohmann::json halves;
+  std::vector<double> mu = drop_initial(series, "mu_eff");
+  std::string mu_name = "mu_eff";
+  if (s.solid() && q["Phi"]["mean"].is_number() && q["Phi"]["mean"].get<double>() < 0.01) {
+    const double phi = q["Phi"]["mean"].get<double>();
+    for (auto& v : mu) v = (v - 1) / phi;
+    mu_name = "intrinsic_viscosity";
+  }
+  const Halves hm = compare_halves(strain, mu, from);
+  halves["split_strain"] = hm.split;
+  halves["test"] =
+      "the means of the two halves agree within 2 standard errors of their difference (each from the whole "
+      "span's integrated autocorrelation time) or 1% of the second, whichever is larger";
+  halves["mu"] = to_json(hm, mu_name);
+  if (has_parts)
+    halves["taylor"] = to_json(
+        compare_halves(drop_initial(parts, "strain"), drop_initial(parts, "taylor_mean"), from), "taylor");
+  j["halves"] = halves;
+
   // averaged profiles, row by row over the samples after the start
   const Columns prof = read_columns(dir + "/profiles_series.csv");
   if (prof.count("row") && !prof.at("row").empty()) {
@@ -171,6 +201,27 @@ nlohmann::json run_averages(const FlowSolver& s, Output& out, const Columns& ser
     j["profile_samples"] = samples;
   }
   return j;
+}
+
+std::string halves_line(const nlohmann::json& averages) {
+  if (!averages.contains("halves")) return "";
+  const auto& h = averages["halves"];
+  std::ostringstream o;
+  o << std::setprecision(5) << "averages from strain " << averages["from_strain"].get<double>()
+    << ", halves split at " << h["split_strain"].get<double>() << ":";
+  for (const char* name : {"mu", "taylor"}) {
+    if (!h.contains(name)) continue;
+    const auto& e = h[name];
+    o << " " << e["quantity"].get<std::string>();
+    if (e["agree"].is_null()) {
+      o << " not judged (under 20 samples a half);";
+      continue;
+    }
+    o << " " << e["first"]["mean"].get<double>() << " / " << e["second"]["mean"].get<double>()
+      << " (tolerance " << e["tolerance"].get<double>() << ") "
+      << (e["agree"].get<bool>() ? "agree;" : "DO NOT AGREE: not stationary;");
+  }
+  return o.str();
 }
 
 }  // namespace softflow

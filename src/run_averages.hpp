@@ -18,4 +18,8 @@ namespace softflow {
 nlohmann::json run_averages(const FlowSolver& s, Output& out,
                             const std::map<std::string, std::vector<double>>& series);
 
+// one log line from run_averages' "halves": each half's mean, the tolerance
+// and whether they agree; empty without them
+std::string halves_line(const nlohmann::json& averages);
+
 }  // namespace softflow

@@ -64,3 +64,88 @@ TEST(Averaging, ShortSeriesGetNoUncertaintyAndNaNsAreSkipped) {
   EXPECT_TRUE(std::isnan(a.stderr_));
   EXPECT_EQ(mser_start(x), 0u);
 }
+
+TEST(Averaging, IntegratedTimeOfAr1IsItsExactValue) {
+  // AR(1) with coefficient rho: tau = (1 + rho) / (1 - rho) exactly (19 for
+  // 0.9, 1 for white noise). One series of 40000 samples estimates it to a
+  // few percent (Sokal's window: bias exp(-5), scatter ~ sqrt(2 (2M + 1) / n))
+  EXPECT_NEAR(integrated_time(ar1(40000, 0.0, 0.9, 1.0, 11)) / 19.0, 1.0, 0.1);
+  EXPECT_NEAR(integrated_time(ar1(40000, 0.0, 0.0, 1.0, 12)), 1.0, 0.05);
+  EXPECT_EQ(integrated_time(std::vector<double>(100, 2.5)), 1.0);  // constant: no correlation to measure
+}
+
+namespace {
+std::vector<double> uniform_strain(size_t n, double to) {
+  std::vector<double> s(n);
+  for (size_t k = 0; k < n; ++k) s[k] = to * double(k + 1) / double(n);
+  return s;
+}
+}  // namespace
+
+TEST(Averaging, HalvesOfStationarySeriesFailAtTheTestsOwnRate) {
+  // 2 standard errors of the difference: a stationary series fails about 5%
+  // of the time (the tolerance's 1% floor is inactive here: noise 0.05 on a
+  // mean of 1, rho = 0.9, 2000 samples: 2 se of the difference ~ 0.045).
+  // Over 400 independent series the count of failures is binomial(400,
+  // 0.05): 20 +- 4.4; [8, 36] is beyond 2.7 standard deviations each side.
+  const auto strain = uniform_strain(4000, 100);
+  int failed = 0;
+  for (int r = 0; r < 400; ++r) {
+    const Halves h = compare_halves(strain, ar1(4000, 1.0, 0.9, 0.05, 500 + r), 0.0);
+    ASSERT_TRUE(h.judged);
+    EXPECT_NEAR(h.split, 50.0, 1e-12);
+    EXPECT_EQ(h.first.samples + h.second.samples, 4000);
+    failed += !h.agree;
+  }
+  EXPECT_GE(failed, 8);
+  EXPECT_LE(failed, 36);
+}
+
+TEST(Averaging, HalvesSeeADriftAboveTheNoiseAndKeepTheOnePercentFloor) {
+  const auto strain = uniform_strain(4000, 100);
+  // a 3% rise across the span: the halves' means differ by 1.5%. With noise
+  // of 0.002 (rho 0.9) every series fails. The span's correlation time takes
+  // the trend in (tau ~ 550 samples against 19 without it), which widens the
+  // tolerance to about the difference itself: with noise of 0.005 the same
+  // rise gives a tolerance within 20% of the difference (1.5-1.8%), and about
+  // half of such series pass. So the halves judge a
+  // span as issue 12 and scripts/stationarity.py check do, no more strictly;
+  // the script's trend table is the test for a slow drift.
+  for (int r = 0; r < 10; ++r) {
+    auto quiet = ar1(4000, 1.0, 0.9, 0.002, 900 + r), noisy = ar1(4000, 1.0, 0.9, 0.005, 900 + r);
+    for (size_t k = 0; k < quiet.size(); ++k) {
+      quiet[k] += 0.03 * strain[k] / 100;
+      noisy[k] += 0.03 * strain[k] / 100;
+    }
+    const Halves q = compare_halves(strain, quiet, 0.0), n = compare_halves(strain, noisy, 0.0);
+    EXPECT_FALSE(q.agree) << r;
+    EXPECT_NEAR(q.second.mean - q.first.mean, 0.015, 0.003) << r;
+    EXPECT_GT(n.tolerance, 0.014) << r;
+    EXPECT_NEAR(n.tolerance / (n.second.mean - n.first.mean), 1.0, 0.25) << r;
+  }
+  // small white noise about 2: its standard errors are far below 1%, so the
+  // tolerance is the floor, 1% of the second half's mean
+  const Halves f = compare_halves(strain, ar1(4000, 2.0, 0.0, 1e-4, 77), 0.0);
+  EXPECT_TRUE(f.agree);
+  EXPECT_NEAR(f.tolerance, 0.02, 1e-5);
+}
+
+TEST(Averaging, HalvesSplitByStrainFromTheStartAndNeedTwentySamplesEach) {
+  // samples twice as dense before strain 60 as after, averaging from 20: the
+  // halves are [20, 60) and [60, 100], not equal counts
+  std::vector<double> strain, x;
+  for (double t = 0.05; t < 60; t += 0.05) strain.push_back(t);
+  for (double t = 60; t <= 100 + 1e-9; t += 0.1) strain.push_back(t);
+  for (double t : strain) x.push_back(t < 60 ? 1.0 : 2.0);
+  const Halves h = compare_halves(strain, x, 20.0);
+  EXPECT_NEAR(h.split, 60.0, 1e-9);
+  EXPECT_DOUBLE_EQ(h.first.mean, 1.0);
+  EXPECT_DOUBLE_EQ(h.second.mean, 2.0);
+  EXPECT_FALSE(h.agree);
+  // 30 samples at strain 1..30, split at 15: 14 and 16, too few to judge
+  const Halves s = compare_halves(uniform_strain(30, 30), std::vector<double>(30, 1.0), 0.0);
+  EXPECT_FALSE(s.judged);
+  EXPECT_FALSE(s.agree);
+  EXPECT_EQ(s.first.samples, 14);
+  EXPECT_EQ(s.second.samples, 16);
+}
