@@ -92,13 +92,16 @@ Average mean_with_tau(const std::vector<double>& v, double tau) {
 
 Halves compare_halves(const std::vector<double>& strain, const std::vector<double>& x, double from) {
   Halves h;
-  std::vector<double> span, a, b;
+  std::vector<size_t> kept;  // the span's samples: from `from` on, finite
   double last = from;
   for (size_t k = 0; k < x.size() && k < strain.size(); ++k)
-    if (strain[k] >= from - 1e-12 && std::isfinite(x[k])) last = std::max(last, strain[k]);
+    if (strain[k] >= from - 1e-12 && std::isfinite(x[k])) {
+      kept.push_back(k);
+      last = std::max(last, strain[k]);
+    }
   h.split = 0.5 * (from + last);
-  for (size_t k = 0; k < x.size() && k < strain.size(); ++k) {
-    if (strain[k] < from - 1e-12 || !std::isfinite(x[k])) continue;
+  std::vector<double> span, a, b;
+  for (size_t k : kept) {
     span.push_back(x[k]);
     (strain[k] < h.split ? a : b).push_back(x[k]);
   }
