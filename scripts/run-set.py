@@ -37,6 +37,14 @@ QUANTITIES = ["mu_eff", "mu_bottom", "mu_top", "n1", "n2", "taylor", "taylor_spr
 BUDGET = ["fluid_viscous", "fluid_reynolds", "particle_viscous", "particle_reynolds", "particle_elastic"]
 
 
+def trend_cell(t):
+    """'+1.23 ± 0.45%' (the change across the span), with ' drifts' where
+    summary.json says so; empty without a verdict."""
+    if t.get("drifts") is None:
+        return ""
+    return f"{100 * t['change']:+.2f} ± {100 * t['change_stderr']:.2f}%" + (" drifts" if t["drifts"] else "")
+
+
 def reference_cases():
     rows = list(csv.DictReader(open(os.path.join(ROOT, "cases", "reference.csv"))))
     return {r["name"]: r for r in rows}
@@ -192,11 +200,13 @@ def collect(names, args, ref):
         for k in BUDGET:
             v = (q.get("budget_share") or {}).get(k) or {}
             row["share_" + k], row["share_" + k + "_stderr"] = v.get("mean"), v.get("stderr")
-        # whether the averaging span's two halves agree (summary.json
-        # averages.halves; empty for a run from before it)
-        h = a.get("halves") or {}
+        # whether the averaging span's two halves agree, and its trend
+        # (summary.json averages.halves and .trend; empty for a run from
+        # before them)
+        h, t = a.get("halves") or {}, a.get("trend") or {}
         for k in ("mu", "taylor"):
             row[k + "_halves_agree"] = (h.get(k) or {}).get("agree")
+            row[k + "_trend"] = trend_cell(t.get(k) or {})
         rows.append(row)
     if not rows:
         return None

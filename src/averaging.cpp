@@ -90,33 +90,78 @@ Average mean_with_tau(const std::vector<double>& v, double tau) {
 }
 }  // namespace
 
-Halves compare_halves(const std::vector<double>& strain, const std::vector<double>& x, double from) {
-  Halves h;
-  std::vector<size_t> kept;  // the span's samples: from `from` on, finite
-  double last = from;
+namespace {
+// the span: the finite samples from strain `from` on, with their strains
+struct Span {
+  std::vector<double> strain, x;
+};
+Span span_from(const std::vector<double>& strain, const std::vector<double>& x, double from) {
+  Span s;
   for (size_t k = 0; k < x.size() && k < strain.size(); ++k)
     if (strain[k] >= from - 1e-12 && std::isfinite(x[k])) {
-      kept.push_back(k);
-      last = std::max(last, strain[k]);
+      s.strain.push_back(strain[k]);
+      s.x.push_back(x[k]);
     }
+  return s;
+}
+}  // namespace
+
+Halves compare_halves(const std::vector<double>& strain, const std::vector<double>& x, double from) {
+  Halves h;
+  const Span span = span_from(strain, x, from);
+  double last = from;
+  for (double t : span.strain) last = std::max(last, t);
   h.split = 0.5 * (from + last);
-  std::vector<double> span, a, b;
-  for (size_t k : kept) {
-    span.push_back(x[k]);
-    (strain[k] < h.split ? a : b).push_back(x[k]);
-  }
+  std::vector<double> a, b;
+  for (size_t k = 0; k < span.x.size(); ++k) (span.strain[k] < h.split ? a : b).push_back(span.x[k]);
   h.first.samples = long(a.size()), h.second.samples = long(b.size());
   if (a.size() < 20 || b.size() < 20) {
     h.first.mean = h.second.mean = h.first.stderr_ = h.second.stderr_ = h.tolerance = NAN;
     return h;
   }
-  const double tau = integrated_time(span);
+  const double tau = integrated_time(span.x);
   h.first = mean_with_tau(a, tau);
   h.second = mean_with_tau(b, tau);
   h.tolerance = std::max(2 * std::hypot(h.first.stderr_, h.second.stderr_), 0.01 * std::abs(h.second.mean));
   h.judged = true;
   h.agree = std::abs(h.second.mean - h.first.mean) <= h.tolerance;
   return h;
+}
+
+Trend fit_trend(const std::vector<double>& strain, const std::vector<double>& x, double from) {
+  constexpr int batches = 10;
+  Trend t;
+  const Span span = span_from(strain, x, from);
+  const size_t n = span.x.size();
+  t.samples = long(n);
+  t.slope = t.slope_stderr = t.mean = t.change = t.change_stderr = NAN;
+  if (n == 0) return t;
+  double sum = 0;
+  for (double e : span.x) sum += e;
+  t.mean = sum / double(n);
+  if (n < 20 || t.mean == 0) return t;
+  const size_t len = n / batches, skip = n - len * batches;
+  double bx[batches], by[batches], mx = 0, my = 0;
+  for (int b = 0; b < batches; ++b) {
+    bx[b] = by[b] = 0;
+    for (size_t k = skip + b * len; k < skip + (b + 1) * len; ++k)
+      bx[b] += span.strain[k], by[b] += span.x[k];
+    bx[b] /= double(len), by[b] /= double(len);
+    mx += bx[b] / batches, my += by[b] / batches;
+  }
+  double sxx = 0, sxy = 0;
+  for (int b = 0; b < batches; ++b) sxx += (bx[b] - mx) * (bx[b] - mx), sxy += (bx[b] - mx) * (by[b] - my);
+  if (sxx == 0) return t;
+  t.slope = sxy / sxx;
+  double res = 0;
+  for (int b = 0; b < batches; ++b) res += std::pow(by[b] - my - t.slope * (bx[b] - mx), 2);
+  t.slope_stderr = std::sqrt(res / (batches - 2) / sxx);
+  const double length = span.strain.back() - span.strain.front();
+  t.change = t.slope * length / std::abs(t.mean);
+  t.change_stderr = t.slope_stderr * length / std::abs(t.mean);
+  t.judged = true;
+  t.drifts = std::abs(t.change) > 2 * t.change_stderr && std::abs(t.change) > 0.01;
+  return t;
 }
 
 }  // namespace softflow

@@ -18,6 +18,12 @@
 // whole span's integrated autocorrelation time, as scripts/stationarity.py
 // check does by default. So every average in summary.json says whether the
 // span it covers is stationary by that test.
+//
+// Trend: a slow drift lengthens the span's correlation time and so widens the
+// halves' tolerance with it (a 3% rise under 0.5% noise passes the halves
+// about half the time). The trend does not: a least-squares line through the
+// span's 10 batch means, its slope's error from their scatter about the line,
+// as scripts/stationarity.py's trend table computes it.
 #pragma once
 #include <cstddef>
 #include <vector>
@@ -49,5 +55,21 @@ struct Halves {
   bool agree = false;     // judged and |second - first| <= tolerance
 };
 Halves compare_halves(const std::vector<double>& strain, const std::vector<double>& x, double from);
+
+// the linear trend of x against strain over the span from strain `from` on:
+// the line through the 10 batch means of strain and of x (equal runs of
+// samples, the leftover first ones dropped, as batch_mean's), the slope's
+// standard error from their scatter about it (8 degrees of freedom)
+struct Trend {
+  double slope = 0, slope_stderr = 0;    // per strain unit
+  double mean = 0;                       // of the span's samples
+  double change = 0, change_stderr = 0;  // slope (last - first strain) / |mean|: across the span
+  long samples = 0;
+  bool judged = false;  // 20 samples or more, a mean that is not 0
+  // judged, |change| beyond 2 standard errors and above 1% (the halves' floor:
+  // a real but smaller drift is below what the test resolves)
+  bool drifts = false;
+};
+Trend fit_trend(const std::vector<double>& strain, const std::vector<double>& x, double from);
 
 }  // namespace softflow

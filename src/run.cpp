@@ -266,6 +266,8 @@ RunResult run_case(const Config& cfg, MPI_Comm comm, std::ostream& log, const Af
   if (root) {
     const std::string halves = halves_line(measured["averages"]);
     if (!halves.empty()) log << halves << "\n";
+    const std::string trend = trend_line(measured["averages"]);
+    if (!trend.empty()) log << trend << "\n";
     log << "done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
         << " s, t = " << solver.time << ", mu_eff = " << std::setprecision(10) << f.mu_eff << ", output in "
         << oc.dir << "/\n";

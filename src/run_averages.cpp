@@ -27,6 +27,14 @@ nlohmann::json to_json(const Halves& h, const std::string& quantity) {
           {"agree", h.judged ? nlohmann::json(h.agree) : nlohmann::json(nullptr)}};
 }
 
+nlohmann::json to_json(const Trend& t, const std::string& quantity) {
+  return {
+      {"quantity", quantity},    {"mean", num(t.mean)},
+      {"slope", num(t.slope)},   {"slope_stderr", num(t.slope_stderr)},
+      {"change", num(t.change)}, {"change_stderr", num(t.change_stderr)},
+      {"samples", t.samples},    {"drifts", t.judged ? nlohmann::json(t.drifts) : nlohmann::json(nullptr)}};
+}
+
 std::string num_str(double v) {
   if (!std::isfinite(v)) return "";
   std::ostringstream o;
@@ -135,9 +143,10 @@ nlohmann::json run_averages(const FlowSolver& s, Output& out, const Columns& ser
   }
   j["quantities"] = q;
 
-  // the span's two halves, as issue 12 tests a run's windows: mu ([mu] for a
-  // dilute run, whose 1% is the particles' own) and the mean Taylor parameter
-  nlohmann::json halves;
+  // the span's two halves, as issue 12 tests a run's windows, and its linear
+  // trend: mu ([mu] for a dilute run, whose 1% is the particles' own) and the
+  // mean Taylor parameter
+  nlohmann::json halves, trend;
   std::vector<double> mu = drop_initial(series, "mu_eff");
   std::string mu_name = "mu_eff";
   if (s.solid() && q["Phi"]["mean"].is_number() && q["Phi"]["mean"].get<double>() < 0.01) {
@@ -151,10 +160,19 @@ nlohmann::json run_averages(const FlowSolver& s, Output& out, const Columns& ser
       "the means of the two halves agree within 2 standard errors of their difference (each from the whole "
       "span's integrated autocorrelation time) or 1% of the second, whichever is larger";
   halves["mu"] = to_json(hm, mu_name);
-  if (has_parts)
-    halves["taylor"] = to_json(
-        compare_halves(drop_initial(parts, "strain"), drop_initial(parts, "taylor_mean"), from), "taylor");
+  trend["test"] =
+      "a least-squares line through the span's 10 batch means; change = slope (last - first strain) / "
+      "|mean|, "
+      "with its standard error from the batch means' scatter about the line; it drifts where the change is "
+      "beyond 2 standard errors and above 1%";
+  trend["mu"] = to_json(fit_trend(strain, mu, from), mu_name);
+  if (has_parts) {
+    const auto ps = drop_initial(parts, "strain"), taylor = drop_initial(parts, "taylor_mean");
+    halves["taylor"] = to_json(compare_halves(ps, taylor, from), "taylor");
+    trend["taylor"] = to_json(fit_trend(ps, taylor, from), "taylor");
+  }
   j["halves"] = halves;
+  j["trend"] = trend;
 
   // averaged profiles, row by row over the samples after the start
   const Columns prof = read_columns(dir + "/profiles_series.csv");
@@ -220,6 +238,26 @@ std::string halves_line(const nlohmann::json& averages) {
     o << " " << e["first"]["mean"].get<double>() << " / " << e["second"]["mean"].get<double>()
       << " (tolerance " << e["tolerance"].get<double>() << ") "
       << (e["agree"].get<bool>() ? "agree;" : "DO NOT AGREE: not stationary;");
+  }
+  return o.str();
+}
+
+std::string trend_line(const nlohmann::json& averages) {
+  if (!averages.contains("trend")) return "";
+  const auto& t = averages["trend"];
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(2) << "trend across the span (change over its mean):";
+  for (const char* name : {"mu", "taylor"}) {
+    if (!t.contains(name)) continue;
+    const auto& e = t[name];
+    o << " " << e["quantity"].get<std::string>();
+    if (e["drifts"].is_null()) {
+      o << " not judged (under 20 samples);";
+      continue;
+    }
+    o << " " << std::showpos << 100 * e["change"].get<double>() << std::noshowpos << " +- "
+      << 100 * e["change_stderr"].get<double>() << "% "
+      << (e["drifts"].get<bool>() ? "DRIFTS: not stationary;" : "steady;");
   }
   return o.str();
 }

@@ -22,4 +22,8 @@ nlohmann::json run_averages(const FlowSolver& s, Output& out,
 // and whether they agree; empty without them
 std::string halves_line(const nlohmann::json& averages);
 
+// one log line from run_averages' "trend": each quantity's change across the
+// span, its standard error and whether it drifts; empty without it
+std::string trend_line(const nlohmann::json& averages);
+
 }  // namespace softflow

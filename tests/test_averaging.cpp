@@ -149,3 +149,77 @@ TEST(Averaging, HalvesSplitByStrainFromTheStartAndNeedTwentySamplesEach) {
   EXPECT_EQ(s.first.samples, 14);
   EXPECT_EQ(s.second.samples, 16);
 }
+
+TEST(Averaging, TrendOfAStraightLineIsItsSlopeWithNoError) {
+  // x = 2 + 0.01 strain over (0, 100], from strain 20: the batch means lie on
+  // the line, so the slope is exact and its error zero
+  const auto strain = uniform_strain(1000, 100);
+  std::vector<double> x;
+  for (double t : strain) x.push_back(2 + 0.01 * t);
+  const Trend t = fit_trend(strain, x, 20.0);
+  ASSERT_TRUE(t.judged);
+  EXPECT_EQ(t.samples, 801);
+  EXPECT_NEAR(t.slope, 0.01, 1e-12);
+  EXPECT_NEAR(t.slope_stderr, 0.0, 1e-12);
+  EXPECT_NEAR(t.mean, 2.6, 1e-12);
+  EXPECT_NEAR(t.change, 0.01 * 80 / 2.6, 1e-12);  // across [20, 100]
+  EXPECT_TRUE(t.drifts);
+}
+
+TEST(Averaging, TrendOfStationarySeriesDriftsAtTheTestsOwnRate) {
+  // the slope over its standard error from 10 batch means is Student's t with
+  // 8 degrees of freedom: beyond 2 with probability 0.0805. The 1% floor is
+  // inactive (noise 0.05, rho 0.9: 2 standard errors of the change ~ 5.5%).
+  // Over 400 series the count is binomial(400, 0.0805): 32.2 +- 5.4; [16, 49]
+  // is 3 standard deviations each side.
+  const auto strain = uniform_strain(4000, 100);
+  int drifted = 0;
+  for (int r = 0; r < 400; ++r) {
+    const Trend t = fit_trend(strain, ar1(4000, 1.0, 0.9, 0.05, 500 + r), 0.0);
+    ASSERT_TRUE(t.judged);
+    EXPECT_GT(2 * t.change_stderr, 0.01);
+    drifted += t.drifts;
+  }
+  EXPECT_GE(drifted, 16);
+  EXPECT_LE(drifted, 49);
+}
+
+TEST(Averaging, TrendSeesTheSlowDriftTheHalvesLetPass) {
+  // the halves' test's blind spot (HalvesSeeADriftAboveTheNoise...): a 3%
+  // rise under noise of 0.005 (rho 0.9). The trend's error comes from the
+  // scatter about the line, which the rise does not widen: every series
+  // drifts, and the fitted change is 3% within 3 of its standard errors
+  // (about 0.3%), while the halves pass some of the same series.
+  const auto strain = uniform_strain(4000, 100);
+  int halves_passed = 0;
+  for (int r = 0; r < 10; ++r) {
+    auto x = ar1(4000, 1.0, 0.9, 0.005, 900 + r);
+    for (size_t k = 0; k < x.size(); ++k) x[k] += 0.03 * strain[k] / 100;
+    const Trend t = fit_trend(strain, x, 0.0);
+    EXPECT_TRUE(t.drifts) << r;
+    EXPECT_NEAR(t.change * t.mean, 0.03, 3 * t.change_stderr * t.mean) << r;
+    EXPECT_LT(t.change_stderr, 0.005) << r;
+    halves_passed += compare_halves(strain, x, 0.0).agree;
+  }
+  EXPECT_GE(halves_passed, 1);
+}
+
+TEST(Averaging, TrendBelowOnePercentDoesNotDriftAndShortSeriesAreNotJudged) {
+  // a rise of 0.5% across the span under noise of 1e-5: far beyond its
+  // standard error, but under the 1% floor; 2% is over it
+  const auto strain = uniform_strain(2000, 50);
+  for (double rise : {0.005, 0.02}) {
+    auto x = ar1(2000, 1.0, 0.0, 1e-5, 31);
+    for (size_t k = 0; k < x.size(); ++k) x[k] += rise * strain[k] / 50;
+    const Trend t = fit_trend(strain, x, 0.0);
+    EXPECT_GT(std::abs(t.change), 10 * t.change_stderr) << rise;
+    EXPECT_EQ(t.drifts, rise > 0.01) << rise;
+  }
+  // 19 samples: no verdict; a mean of 0: no relative change
+  const Trend s = fit_trend(uniform_strain(19, 19), std::vector<double>(19, 1.0), 0.0);
+  EXPECT_FALSE(s.judged);
+  EXPECT_FALSE(s.drifts);
+  EXPECT_EQ(s.samples, 19);
+  const Trend z = fit_trend(uniform_strain(100, 10), std::vector<double>(100, 0.0), 0.0);
+  EXPECT_FALSE(z.judged);
+}
