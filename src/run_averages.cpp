@@ -161,10 +161,9 @@ nlohmann::json run_averages(const FlowSolver& s, Output& out, const Columns& ser
       "span's integrated autocorrelation time) or 1% of the second, whichever is larger";
   halves["mu"] = to_json(hm, mu_name);
   trend["test"] =
-      "a least-squares line through the span's 10 batch means; change = slope (last - first strain) / "
-      "|mean|, "
-      "with its standard error from the batch means' scatter about the line; it drifts where the change is "
-      "beyond 2 standard errors and above 1%";
+      "a least-squares line through the span's 10 batch means; "
+      "change = slope (last - first strain) / |mean|, its standard error from the batch means' scatter "
+      "about the line; it drifts where the change is beyond 2 standard errors and above 1%";
   trend["mu"] = to_json(fit_trend(strain, mu, from), mu_name);
   if (has_parts) {
     const auto ps = drop_initial(parts, "strain"), taylor = drop_initial(parts, "taylor_mean");
