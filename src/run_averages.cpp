@@ -254,9 +254,10 @@ std::string trend_line(const nlohmann::json& averages) {
       o << " not judged (under 20 samples);";
       continue;
     }
-    o << " " << std::showpos << 100 * e["change"].get<double>() << std::noshowpos << " +- "
-      << 100 * e["change_stderr"].get<double>() << "% "
-      << (e["drifts"].get<bool>() ? "DRIFTS: not stationary;" : "steady;");
+    double change = 100 * e["change"].get<double>();
+    if (std::abs(change) < 0.005) change = 0;  // printed as +0.00, not -0.00
+    o << " " << std::showpos << change << std::noshowpos << " +- " << 100 * e["change_stderr"].get<double>()
+      << "% " << (e["drifts"].get<bool>() ? "DRIFTS: not stationary;" : "steady;");
   }
   return o.str();
 }
