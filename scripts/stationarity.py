@@ -83,6 +83,7 @@ unbounded (scripts/ellipsoid_theory.py), in black.
 
   scripts/stationarity.py shape RUN_DIR...
   scripts/stationarity.py interior RUN_DIR...
+  scripts/stationarity.py creep RUN_DIR...
 
 shape: is the particles' phi shape the one their B records? For each field
 snapshot of each run, T and inclination of the x-y section from phi's
@@ -105,6 +106,22 @@ of |L| r, and the residual's odd-even parts in y and in x (its mean times
 (-1)^j or (-1)^i, for u and v): a grid mode shows there, where noise gives
 about rms / sqrt(cells). Only meaningful while phi > 0.9 is one body
 (`shape`).
+
+creep: what carries phi's shape along the vorticity axis z? For each
+field snapshot of a one-particle run, phi's second moment about its
+centroid along z, M = sum phi dz^2 / sum phi, gives the axis sqrt(5 M)
+(exact for a uniform ellipsoid); beside it the pole: half the distance
+between the outermost phi = 1/2 crossings along z through the centroid
+(the exact ellipsoid's semi-axis c, shared/spec/dilute_theory.csv; the
+column, interpolated between the cells', misses phi's curvature across
+the axis: about 1% of r at 4 ppr). Its rate from the velocity alone,
+d ln M / dt = 2 sum phi dz w / (M sum phi) (phi carried by w, no
+scheme error), is split by the cells' phi: >= 0.9, 0.5-0.9, 0.1-0.5 and
+< 0.1, each shown as the axis' change per 40 strain units, beside the
+change measured between this snapshot and the last. A creep that the
+interface band's flow carries while the core's does not is one that B
+(extended from the core into the band) does not record and no elastic
+stress resists (results/README.md, round 44).
 
 map (particles.solid_model = "reference_map"): for each field snapshot,
 det B = det(grad xi)^-2 before the unimodular projection over the cells
@@ -699,6 +716,92 @@ def interior(folders):
                   f"{np.mean(res[0] * px):+.1e}, {np.mean(res[1] * px):+.1e} |")
 
 
+CREEP_BANDS = ((0.9, math.inf, ">= 0.9"), (0.5, 0.9, "0.5-0.9"), (0.1, 0.5, "0.1-0.5"), (-math.inf, 0.1, "< 0.1"))
+
+
+def creep_rows(phi, w, lz, strain_per_time):
+    """phi's z axis sqrt(5 M) and the rate of ln M that w carries in each of
+    CREEP_BANDS, as the axis' change in % per 40 strain units (arrays x, y,
+    z; periodic along z: the circular mean, then the nearest image)"""
+    import numpy as np
+    phi = np.clip(phi, 0, 1)
+    nz = phi.shape[2]
+    z = (np.arange(nz) + 0.5) * lz / nz
+    wz = phi.sum(axis=(0, 1))
+    t = 2 * np.pi * z / lz
+    c = np.arctan2((wz * np.sin(t)).sum(), (wz * np.cos(t)).sum()) * lz / (2 * np.pi)
+    dz = ((z - c + lz / 2) % lz - lz / 2)[None, None, :]
+    total = phi.sum()
+    m = float((phi * dz * dz).sum() / total)
+    flux = phi * dz * w
+    # d ln(axis) / dt = (1/2) d ln M / dt = sum phi dz w / (M sum phi); per strain, over 40, in %
+    scale = 1 / (m * total) / strain_per_time * 40 * 100
+    rates = [float(flux[(phi >= lo) & (phi < hi)].sum() * scale) for lo, hi, _ in CREEP_BANDS]
+    return math.sqrt(5 * m), rates
+
+
+def pole_half_length(phi, box, level=0.5):
+    """Half the distance between the outermost crossings of `level` along z
+    through phi's centroid (the column interpolated bilinearly in x and y;
+    the centroid's x and z by circular means, periodic; arrays x, y, z):
+    where the particle's poles on the vorticity axis sit."""
+    import numpy as np
+    phi = np.clip(phi, 0, 1)
+    n = phi.shape
+    h = [length / m for length, m in zip(box, n)]
+    centre = []
+    for d in range(3):
+        x = (np.arange(n[d]) + 0.5) * h[d]
+        wd = phi.sum(axis=tuple(a for a in range(3) if a != d))
+        if d == 1:
+            centre.append((wd * x).sum() / wd.sum())
+        else:
+            t = 2 * np.pi * x / box[d]
+            centre.append(np.arctan2((wd * np.sin(t)).sum(), (wd * np.cos(t)).sum()) * box[d] / (2 * np.pi) % box[d])
+    fi, fj = centre[0] / h[0] - 0.5, centre[1] / h[1] - 0.5
+    i0, j0 = int(math.floor(fi)), int(math.floor(fj))
+    a, b = fi - i0, fj - j0
+    col = sum(wt * phi[(i0 + di) % n[0], min(max(j0 + dj, 0), n[1] - 1), :]
+              for di, dj, wt in ((0, 0, (1 - a) * (1 - b)), (1, 0, a * (1 - b)), (0, 1, (1 - a) * b), (1, 1, a * b)))
+    shift = n[2] // 2 - int(math.floor(centre[2] / h[2]))  # the centroid to mid-column
+    col = np.roll(col, shift)
+    zc = centre[2] + shift * h[2]
+    z = (np.arange(n[2]) + 0.5) * h[2]
+    up = [k for k in range(n[2] - 1) if z[k] >= zc and col[k] >= level > col[k + 1]]
+    down = [k for k in range(n[2] - 1) if z[k + 1] <= zc and col[k] < level <= col[k + 1]]
+    if not up or not down:
+        return math.nan
+    k, q = up[-1], down[0]
+    top = z[k] + (col[k] - level) / (col[k] - col[k + 1]) * h[2]
+    bottom = z[q] + (level - col[q]) / (col[q + 1] - col[q]) * h[2]
+    return 0.5 * (top - bottom)
+
+
+def creep(folders):
+    import h5py
+    import numpy as np
+    print("| run | strain | z axis sqrt(5 M) | pole (phi = 1/2) | carried by w in phi " +
+          " | ".join(b[2] for b in CREEP_BANDS) +
+          " | all | measured since the last snapshot |\n|---|---|---|---|---|---|---|---|---|---|")
+    for folder in folders:
+        box = Run(folder).box
+        lz = box[2]
+        rows = list(csv.DictReader(open(os.path.join(folder, "series.csv"))))
+        last = rows[-1]
+        rate = float(last["strain"]) / float(last["time"])  # strain per time: the shear rate
+        before = None
+        for f, strain in field_snapshots(folder):
+            with h5py.File(f, "r") as h:  # stored z, y, x: to x, y, z (velocities at cell centres)
+                phi = np.asarray(h["phi"]).transpose(2, 1, 0)
+                w = np.asarray(h["w"]).transpose(2, 1, 0)
+            axis, parts = creep_rows(phi, w, lz, rate)
+            seen = "-" if before is None else f"{100 * 40 * math.log(axis / before[1]) / (strain - before[0]):+.2f}%"
+            print(f"| {os.path.basename(os.path.normpath(folder))} | {strain:.1f} | {axis:.4f} | "
+                  f"{pole_half_length(phi, box):.4f} | " +
+                  " | ".join(f"{x:+.2f}%" for x in parts) + f" | {sum(parts):+.2f}% | {seen} |")
+            before = (strain, axis)
+
+
 def map_det(folders):
     """particles.solid_model = "reference_map": det B = det(grad xi)^-2
     before the projection, from each snapshot's map (central differences,
@@ -744,6 +847,8 @@ def main():
     h.add_argument("runs", nargs="+")
     ip = sub.add_parser("interior")
     ip.add_argument("runs", nargs="+")
+    cp = sub.add_parser("creep")
+    cp.add_argument("runs", nargs="+")
     lp = sub.add_parser("lowphi")
     lp.add_argument("runs", nargs="+")
     mp = sub.add_parser("map")
@@ -767,6 +872,9 @@ def main():
         return
     if a.cmd == "interior":
         interior(a.runs)
+        return
+    if a.cmd == "creep":
+        creep(a.runs)
         return
     if a.cmd == "windows":
         for folder in a.runs:
