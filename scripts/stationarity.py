@@ -646,6 +646,20 @@ def field_snapshots(folder):
         yield f, times[min(times, key=lambda k: abs(k - step))]
 
 
+def phi_centre(phi, d, length):
+    """phi's centroid along axis d of length `length` (cell centres from 0):
+    the plain mean across the walls (d = 1), the circular mean along the
+    periodic x and z, in [0, length)"""
+    import numpy as np
+    n = phi.shape[d]
+    x = (np.arange(n) + 0.5) * length / n
+    w = phi.sum(axis=tuple(a for a in range(phi.ndim) if a != d))
+    if d == 1:
+        return (w * x).sum() / w.sum()
+    t = 2 * np.pi * x / length
+    return np.arctan2((w * np.sin(t)).sum(), (w * np.cos(t)).sum()) * length / (2 * np.pi) % length
+
+
 def lowphi(folders):
     import h5py
     import numpy as np
@@ -661,14 +675,9 @@ def lowphi(folders):
             axes = []
             for d, length in enumerate((lx, ly, lz)):
                 x = (np.arange(n[d]) + 0.5) * length / n[d]
-                w = phi.sum(axis=tuple(a for a in range(3) if a != d))
-                if d == 1:
-                    c = (w * x).sum() / w.sum()
-                    axes.append(x - c)
-                else:  # periodic: the circular mean, then the nearest image
-                    t = 2 * np.pi * x / length
-                    c = np.arctan2((w * np.sin(t)).sum(), (w * np.cos(t)).sum()) * length / (2 * np.pi)
-                    axes.append((x - c + length / 2) % length - length / 2)
+                c = phi_centre(phi, d, length)
+                # periodic x and z: the nearest image
+                axes.append(x - c if d == 1 else (x - c + length / 2) % length - length / 2)
             X, Y, Z = np.meshgrid(*axes, indexing="ij")
             core = phi * (phi > 0.5)
             m = {c: float((core * b[c]).sum() / core.sum()) for c in b}
@@ -727,9 +736,7 @@ def creep_rows(phi, w, lz, strain_per_time):
     phi = np.clip(phi, 0, 1)
     nz = phi.shape[2]
     z = (np.arange(nz) + 0.5) * lz / nz
-    wz = phi.sum(axis=(0, 1))
-    t = 2 * np.pi * z / lz
-    c = np.arctan2((wz * np.sin(t)).sum(), (wz * np.cos(t)).sum()) * lz / (2 * np.pi)
+    c = phi_centre(phi, 2, lz)
     dz = ((z - c + lz / 2) % lz - lz / 2)[None, None, :]
     total = phi.sum()
     m = float((phi * dz * dz).sum() / total)
@@ -749,15 +756,7 @@ def pole_half_length(phi, box, level=0.5):
     phi = np.clip(phi, 0, 1)
     n = phi.shape
     h = [length / m for length, m in zip(box, n)]
-    centre = []
-    for d in range(3):
-        x = (np.arange(n[d]) + 0.5) * h[d]
-        wd = phi.sum(axis=tuple(a for a in range(3) if a != d))
-        if d == 1:
-            centre.append((wd * x).sum() / wd.sum())
-        else:
-            t = 2 * np.pi * x / box[d]
-            centre.append(np.arctan2((wd * np.sin(t)).sum(), (wd * np.cos(t)).sum()) * box[d] / (2 * np.pi) % box[d])
+    centre = [phi_centre(phi, d, box[d]) for d in range(3)]
     fi, fj = centre[0] / h[0] - 0.5, centre[1] / h[1] - 0.5
     i0, j0 = int(math.floor(fi)), int(math.floor(fj))
     a, b = fi - i0, fj - j0
